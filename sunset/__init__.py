@@ -1,0 +1,24 @@
+"""sunset: Nelson Max's 1981 "Waves and Islands in the Sunset", reproduced.
+
+The public API, in the order of the paper's pipeline::
+
+    scene = sunset.Scene.default()            # or Scene.from_toml("my.toml")
+    frame = sunset.render(scene, t=0.0, reflections=2)   # vector stage
+    codes = sunset.encode(scene, frame)       # the 8-bit tape
+    rgb = sunset.expose(scene, codes, hours=0.5)          # film recorder
+"""
+
+from .camera import Camera
+from .errors import SunsetError
+from .frame import Frame
+from .islands import Cosine, Island, Paraboloid
+from .scene import Scene, default_scene
+from .sun import Sun
+from .waves import Sea, WaveTrain
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Camera", "Cosine", "Frame", "Island", "Paraboloid", "Scene", "Sea", "Sun",
+    "SunsetError", "WaveTrain", "default_scene", "__version__",
+]
