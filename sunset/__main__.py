@@ -1,0 +1,7 @@
+"""``python -m sunset``: the same as the ``sunset`` command."""
+
+import sys
+
+from .cli import main
+
+sys.exit(main())

@@ -1,0 +1,226 @@
+"""The ``sunset`` command: figures, one frame, a tape's exposure, the film.
+
+Every user error (a bad scene file, a bad number, an unknown figure, an
+unwritable output, a damaged tape) prints one line ``sunset: error: …`` and
+exits with status 2, with no traceback and no partial output file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+from . import __version__
+from .errors import SunsetError
+
+EXAMPLES = {
+    "figures": """examples:
+  sunset figures                      # everything `make figures` writes, into figures/
+  sunset figures --only 2,6 --size 512x512 --out /tmp/figs""",
+    "render": """examples:
+  sunset scene > my.toml && sunset render my.toml -o frame.png
+  sunset render my.toml --reflections 1 --hours 2 --size 400x400 -o f.png --tape f.tape""",
+    "expose": """examples:
+  sunset expose f.tape --hours 4.5 -o afternoon.png""",
+    "film": """examples:
+  sunset film my.toml --frames 16 --size 320x320 -o film.mp4
+  sunset film my.toml --from-hours 1.5 --to-hours -0.25 -o film.mp4 --preview film.gif""",
+    "scene": """examples:
+  sunset scene > my.toml""",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors and exit status 2."""
+
+    def error(self, message):  # noqa: D401 - argparse API
+        sub = self.prog.partition(" ")[2]
+        raise SunsetError(f"{sub}: {message}" if sub else message)
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size must look like WIDTHxHEIGHT, e.g. 512x512, got {text!r}") from None
+    if w <= 0 or h <= 0:
+        raise argparse.ArgumentTypeError(f"size must be positive, got {text!r}")
+    if w * h > 64_000_000:
+        raise argparse.ArgumentTypeError(f"size {text!r} is too large (at most 64 megapixels)")
+    return w, h
+
+
+def _number(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return v
+
+
+def _count(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if v <= 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
+    return v
+
+
+def _seed(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"seed must be a whole number, got {text!r}") from None
+    if not 0 <= v < 2**32:
+        raise argparse.ArgumentTypeError(f"seed must be in 0..2**32-1, got {text!r}")
+    return v
+
+
+def _load_scene(arg: str):
+    from .scene import Scene, load_named_scene
+
+    path = Path(arg)
+    if not path.exists() and "/" not in arg and not arg.endswith(".toml"):
+        return load_named_scene(arg)
+    return Scene.from_toml(path)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="sunset", description="Nelson Max's 1981 'Waves and Islands in the Sunset', reproduced.")
+    parser.add_argument("--version", action="version", version=f"sunset {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+
+    def add(name, help_):
+        return sub.add_parser(name, help=help_, description=help_, epilog=EXAMPLES[name],
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
+
+    p = add("figures", "Write the paper's figures, diagnostics and the film (what `make figures` runs).")
+    p.add_argument("--out", default="figures", help="output folder (default: figures)")
+    p.add_argument("--only", help="comma-separated figure names: 2,4,5,6,7,diagnostic,reflections,film")
+    p.add_argument("--size", type=_size, help="size of Figures 4–7 and the film, WxH (default 1020x1023)")
+    p.add_argument("--seed", type=_seed, default=0, help="dither seed (default 0)")
+    p.add_argument("--frames", type=_count, default=32, help="frames per wave cycle in the film (default 32)")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+
+    p = add("render", "Render one frame of a scene to PNG (and optionally its tape).")
+    p.add_argument("scene", help="scene TOML file (or the name of a packaged scene, e.g. carlas-island)")
+    p.add_argument("--time", type=_number, default=0.0, help="time t in seconds (default 0)")
+    p.add_argument("--size", type=_size, help="WxH in pixels (default: the scene's camera)")
+    p.add_argument("--reflections", type=int, choices=(0, 1, 2), default=2, help="reflection mode (default 2)")
+    p.add_argument("--hours", type=_number, default=0.35, help="hours before sunset for the colour tables")
+    p.add_argument("--seed", type=_seed, default=0, help="dither seed (default 0)")
+    p.add_argument("--still", action="store_true", help="render on still water (Figure 4)")
+    p.add_argument("-o", "--output", required=True, help="output PNG")
+    p.add_argument("--tape", help="also write the 8-bit tape here")
+
+    p = add("expose", "Expose a saved tape through the colour tables (the film recorder alone).")
+    p.add_argument("tape", help="a tape written by `sunset render --tape` or `sunset film --tape`")
+    p.add_argument("--hours", type=_number, required=True, help="hours before sunset")
+    p.add_argument("--frame", type=int, default=0, help="which frame of the tape (default 0)")
+    p.add_argument("-o", "--output", required=True, help="output PNG")
+
+    p = add("film", "Render one wave cycle once and film it while the sun sets (colour-table animation).")
+    p.add_argument("scene", help="scene TOML file (or a packaged scene name)")
+    p.add_argument("--frames", type=_count, default=32, help="frames per wave cycle (default 32)")
+    p.add_argument("--from-hours", type=_number, default=1.5, help="hours before sunset at the start (default 1.5)")
+    p.add_argument("--to-hours", type=_number, default=-0.25, help="hours before sunset at the end (default -0.25)")
+    p.add_argument("--size", type=_size, help="WxH in pixels")
+    p.add_argument("--reflections", type=int, choices=(0, 1, 2), default=2)
+    p.add_argument("--seed", type=_seed, default=0)
+    p.add_argument("--fps", type=_count, default=24)
+    p.add_argument("-o", "--output", required=True, help="output MP4")
+    p.add_argument("--preview", help="also write a small looping GIF preview here")
+    p.add_argument("--tape", help="also write the cycle's tape here")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+    add("scene", "Print the default scene as TOML, to start a scene file from.")
+    return parser
+
+
+def _cmd_figures(args) -> None:
+    from .figures import make_figures
+
+    make_figures(args.out, only=args.only, size=args.size, seed=args.seed,
+                 progress=not args.quiet, log=(lambda *_: None) if args.quiet else
+                 (lambda msg: print(msg, file=sys.stderr)), film_frames=args.frames)
+
+
+def _cmd_render(args) -> None:
+    from .figures.paper import expose_png, render_tape
+    from .io import check_writable
+    from .tape import write_tape
+
+    check_writable(args.output)
+    if args.tape:
+        check_writable(args.tape)
+    scene = _load_scene(args.scene)
+    if args.size:
+        scene = scene.with_size(*args.size)
+    if args.still:
+        scene = scene.still()
+    tape = render_tape(scene, args.time, args.reflections, args.seed)
+    if args.tape:
+        write_tape(args.tape, tape)
+    expose_png(tape, args.hours, Path(args.output))
+
+
+def _cmd_expose(args) -> None:
+    from .figures.paper import expose_png
+    from .io import check_writable
+    from .tape import read_tape
+
+    check_writable(args.output)
+    tape = read_tape(args.tape)
+    if not 0 <= args.frame < len(tape.codes):
+        raise SunsetError(f"--frame must be in 0..{len(tape.codes) - 1}, got {args.frame}")
+    expose_png(tape, args.hours, Path(args.output), frame=args.frame)
+
+
+def _cmd_film(args) -> None:
+    from .film import make_film
+    from .io import check_writable
+
+    for p in (args.output, args.preview, args.tape):
+        if p:
+            check_writable(p)
+    scene = _load_scene(args.scene)
+    if args.size:
+        scene = scene.with_size(*args.size)
+    make_film(scene, args.output, args.preview, frames=args.frames, from_hours=args.from_hours,
+              to_hours=args.to_hours, reflections=args.reflections, seed=args.seed, fps=args.fps,
+              tape_path=args.tape, progress=not args.quiet)
+
+
+def _cmd_scene(args) -> None:
+    from .scene import Scene
+
+    sys.stdout.write(Scene.default().to_toml())
+
+
+COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expose, "film": _cmd_film,
+            "scene": _cmd_scene}
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 ok, 2 user error)."""
+    try:
+        args = build_parser().parse_args(argv)
+        COMMANDS[args.command](args)
+    except SunsetError as exc:
+        print(f"sunset: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("sunset: interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,81 @@
+"""Every figure `make figures` writes, by name.
+
+Each entry names the file it writes and the function that makes it; the
+functions live in this package's modules, one module per group of figures.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from ..errors import SunsetError
+
+#: name -> (file written into the output folder, one-line description)
+FIGURES: dict[str, tuple[str, str]] = {
+    "2": ("fig2.png", "Figure 2: Stokes' approximations to the wave form, and the exact wave"),
+    "4": ("fig4.png", "Figure 4: islands near sunset in still water"),
+    "5": ("fig5.png", "Figure 5: one reflection from waves (|R_z|)"),
+    "6": ("fig6.png", "Figure 6: two reflections from waves"),
+    "7": ("fig7.png", "Figure 7: Figure 6's tape with early-afternoon tables"),
+    "diagnostic": ("diagnostic.png", "surface classes and normals of the default scene"),
+    "reflections": ("reflections.png", "the three reflection modes, diagnostic maps"),
+    "film": ("film.mp4", "the colour-table animation of one wave cycle (and film-preview.gif)"),
+}
+
+
+def parse_only(text: str | None) -> list[str]:
+    """Parse ``--only 2,4,5`` into figure names, in registry order; all when None."""
+    if text is None:
+        return list(FIGURES)
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise SunsetError("--only needs at least one figure name")
+    unknown = [n for n in names if n not in FIGURES]
+    if unknown:
+        raise SunsetError(f"unknown figure {unknown[0]!r} (known: {', '.join(FIGURES)})")
+    return [n for n in FIGURES if n in names]
+
+
+def make_figure(name: str, out: Path, scene, size: tuple[int, int] | None = None, seed: int = 0,
+                film_frames: int = 32, progress: bool = True) -> list[Path]:
+    """Make one figure into ``out``; returns the files written."""
+    out = Path(out)
+    if name == "2":
+        from .fig2 import figure2
+        return [figure2(out / "fig2.png")]
+    if name in ("4", "5", "6", "7"):
+        from .paper import paper_figure
+        sc = scene.with_size(*size) if size else scene
+        return [paper_figure(name, out, sc, seed=seed)]
+    if name == "diagnostic":
+        from .diagnostic import diagnostic
+        return [diagnostic(out / "diagnostic.png")]
+    if name == "reflections":
+        from .reflections import reflection_modes
+        return [reflection_modes(out / "reflections.png")]
+    if name == "film":
+        from ..film import make_film
+        sc = scene.with_size(*size) if size else scene
+        return list(make_film(sc, out / "film.mp4", out / "film-preview.gif", frames=film_frames,
+                              seed=seed, progress=progress))
+    raise SunsetError(f"unknown figure {name!r}")  # pragma: no cover - parse_only guards
+
+
+def make_figures(out: str | Path = "figures", only: str | None = None, size: tuple[int, int] | None = None,
+                 seed: int = 0, scene=None, progress: bool = True, log=print,
+                 film_frames: int = 32) -> list[Path]:
+    """Make the figures named by ``only`` (all by default) into ``out``."""
+    from ..scene import Scene
+
+    names = parse_only(only)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    scene = Scene.default() if scene is None else scene
+    written = []
+    for name in names:
+        start = time.perf_counter()
+        files = make_figure(name, out, scene, size=size, seed=seed, progress=progress, film_frames=film_frames)
+        written += files
+        log(f"{FIGURES[name][1]}: {', '.join(str(f) for f in files)} ({time.perf_counter() - start:.1f} s)")
+    return written

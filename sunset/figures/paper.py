@@ -1,0 +1,94 @@
+"""Figures 4–7 of the paper: one pipeline, three reflection modes, two lightings.
+
+Figure 4: still water (mirror reflections), Figure 5: one reflection with
+|R_z|, Figure 6: two reflections, all near sunset; Figure 7: Figure 6's tape
+through early-afternoon colour tables, with no re-rendering.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from ..codes import encode
+from ..dicomed import expose
+from ..io import save_png
+from ..render import render
+from ..scene import Scene
+from ..tape import Tape, read_tape, write_tape
+
+#: Hours before sunset for the sunset figures (4, 5, 6) and for Figure 7.
+SUNSET_HOURS = 0.35
+AFTERNOON_HOURS = 4.5
+
+
+@dataclass(frozen=True)
+class PaperFigure:
+    """How one of the paper's figures is made."""
+
+    number: str
+    caption: str
+    still: bool
+    reflections: int
+    hours: float
+    reuses: str | None = None
+
+
+PAPER_FIGURES = {
+    "4": PaperFigure("4", "Islands near sunset in still water.", True, 1, SUNSET_HOURS),
+    "5": PaperFigure("5", "Islands near sunset with one reflection from waves.", False, 1, SUNSET_HOURS),
+    "6": PaperFigure("6", "Islands near sunset allowing two reflections from waves.", False, 2, SUNSET_HOURS),
+    "7": PaperFigure("7", "The same data as in figure 6, with early afternoon lighting.", False, 2, AFTERNOON_HOURS,
+                     reuses="6"),
+}
+
+
+def png_metadata(scene: Scene, settings: dict) -> dict[str, str]:
+    """Provenance written into every PNG: the scene, the settings, the version."""
+    return {
+        "Software": f"sunset {__version__}",
+        "sunset:settings": json.dumps(settings, sort_keys=True),
+        "sunset:scene": scene.to_toml(),
+    }
+
+
+def render_tape(scene: Scene, t: float, reflections: int, seed: int) -> Tape:
+    """The vector stage for one frame: render, then code to 8 bits."""
+    frame = render(scene, t, reflections)
+    codes = encode(scene, frame, seed=seed)
+    return Tape(scene=scene, codes=codes[None], times=np.array([t]), reflections=reflections, seed=seed)
+
+
+def expose_png(tape: Tape, hours: float, path: Path, frame: int = 0, extra: dict | None = None) -> Path:
+    """The film-recorder stage for one frame of a tape, written as a PNG."""
+    rgb = expose(tape.scene, tape.codes[frame], hours)
+    settings = {"t": float(tape.times[frame]), "reflections": tape.reflections, "seed": tape.seed,
+                "hours": float(hours), **(extra or {})}
+    return save_png(path, rgb, png_metadata(tape.scene, settings))
+
+
+def paper_figure(number: str, out: Path, scene: Scene, seed: int = 0, t: float = 0.0) -> Path:
+    """Write figure ``number`` (4–7) as ``out/figN.png``; Figure 6 also leaves ``fig6.tape``.
+
+    Figure 7 reads ``fig6.tape`` when it is there and matches the scene, and
+    renders it once otherwise: it never re-renders what Figure 6 computed.
+    """
+    spec = PAPER_FIGURES[number]
+    out = Path(out)
+    source = spec.reuses or number
+    tape_path = out / f"fig{source}.tape"
+    tape = None
+    if spec.reuses and tape_path.is_file():
+        cached = read_tape(tape_path)
+        if cached.scene == scene and cached.seed == seed and float(cached.times[0]) == t:
+            tape = cached
+    if tape is None:
+        src = PAPER_FIGURES[source]
+        tape = render_tape(scene.still() if src.still else scene, t, src.reflections, seed)
+        if source == "6":
+            write_tape(tape_path, tape)
+    return expose_png(tape, spec.hours, out / f"fig{number}.png", extra={"figure": number})
