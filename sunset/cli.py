@@ -153,14 +153,15 @@ def _cmd_figures(args) -> None:
 
 
 def _cmd_render(args) -> None:
-    from .figures.paper import expose_png, render_tape
     from .io import check_writable
-    from .tape import write_tape
 
     check_writable(args.output)
     if args.tape:
         check_writable(args.tape)
     scene = _load_scene(args.scene)
+    from .figures.paper import expose_png, render_tape
+    from .tape import write_tape
+
     if args.size:
         scene = scene.with_size(*args.size)
     if args.still:
@@ -184,13 +185,14 @@ def _cmd_expose(args) -> None:
 
 
 def _cmd_film(args) -> None:
-    from .film import make_film
     from .io import check_writable
 
     for p in (args.output, args.preview, args.tape):
         if p:
             check_writable(p)
     scene = _load_scene(args.scene)
+    from .film import make_film
+
     if args.size:
         scene = scene.with_size(*args.size)
     make_film(scene, args.output, args.preview, frames=args.frames, from_hours=args.from_hours,

@@ -131,8 +131,16 @@ def _field_types(cls) -> dict[str, typing.Any]:
     return {f.name: hints[f.name] for f in dataclasses.fields(cls)}
 
 
-def _required(f: dataclasses.Field) -> bool:
-    return f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+#: Fields a scene file may leave out (they take their defaults); every other
+#: field must be written out, so that a scene file says what it renders.
+_OPTIONAL = {
+    (Scene, "title"), (Scene, "sea"), (Scene, "islands"), (Sea, "trains"),
+    (WaveTrain, "phase"), (WaveTrain, "stokes_order"), (Island, "name"), (Island, "cosines"),
+}
+
+
+def _required(cls, f: dataclasses.Field) -> bool:
+    return (cls, f.name) not in _OPTIONAL
 
 
 def _join(path: str, name: str) -> str:
@@ -170,7 +178,7 @@ def _build(cls, data, path: str):
     for name, f in fields.items():
         where = _join(path, name)
         if name not in data:
-            if _required(f):
+            if _required(cls, f):
                 raise SunsetError(f"missing field {where!r}")
             continue
         value = data[name]

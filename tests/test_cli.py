@@ -1,0 +1,139 @@
+"""The sunset command (sunset/cli.py): every user error is one line and exit 2."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from sunset.cli import main
+from sunset.scene import Scene
+
+SMALL = "48x40"
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def assert_user_error(code, err, *words):
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("sunset: error:")
+    assert "Traceback" not in err
+    for w in words:
+        assert w in lines[0], (w, lines[0])
+
+
+@pytest.fixture
+def scene_file(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(Scene.default().to_toml())
+    return path
+
+
+def edit(path, old, new):
+    text = path.read_text()
+    assert old in text
+    path.write_text(text.replace(old, new, 1))
+    return path
+
+
+def test_scene_prints_default_toml(capsys):
+    code, out, _ = run(capsys, "scene")
+    assert code == 0
+    assert Scene.from_toml(out) == Scene.default()
+
+
+@pytest.mark.parametrize("mutate, words", [
+    (lambda p: p.write_text("[camera\n"), ["malformed TOML"]),
+    (lambda p: edit(p, "[camera]\n", "[camera]\nzoom = 2\n"), ["unknown key", "camera.zoom"]),
+    (lambda p: edit(p, "eye_height = 2.0\n", ""), ["missing field", "camera.eye_height"]),
+    (lambda p: edit(p, "eye_height = 2.0", "eye_height = -2.0"), ["camera.eye_height"]),
+    (lambda p: edit(p, "eye_height = 2.0", "eye_height = nan"), ["camera.eye_height", "finite"]),
+    (lambda p: edit(p, "width = 1020", "width = 0"), ["camera.width"]),
+    (lambda p: edit(p, "amplitude = ", "amplitude = -"), ["sea.trains[0].amplitude"]),
+])
+def test_bad_scene_files(capsys, tmp_path, scene_file, mutate, words):
+    mutate(scene_file)
+    out = tmp_path / "o.png"
+    code, _, err = run(capsys, "render", str(scene_file), "--size", SMALL, "-o", str(out))
+    assert_user_error(code, err, *words)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["figures", "--only", "3"], ["unknown figure", "'3'"]),
+    (["render", "carlas-island", "--size", "0x10", "-o", "x.png"], ["size"]),
+    (["render", "carlas-island", "--size", "-4x10", "-o", "x.png"], ["size"]),
+    (["render", "carlas-island", "--time", "nan", "-o", "x.png"], ["--time", "finite"]),
+    (["render", "carlas-island", "--reflections", "3", "-o", "x.png"], ["--reflections"]),
+    (["render", "no-such-scene.toml", "-o", "x.png"], ["no-such-scene.toml"]),
+    (["film", "carlas-island", "--frames", "0", "-o", "x.mp4"], ["--frames"]),
+    (["expose", "missing.tape", "--hours", "1", "-o", "x.png"], ["missing.tape"]),
+    (["bogus"], ["bogus"]),
+])
+def test_bad_arguments(capsys, tmp_path, monkeypatch, argv, words):
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run(capsys, *argv)
+    assert_user_error(code, err, *words)
+    assert os.listdir(tmp_path) == []
+
+
+def test_unwritable_output(capsys, tmp_path):
+    code, _, err = run(capsys, "render", "carlas-island", "--size", SMALL, "-o", str(tmp_path / "no" / "x.png"))
+    assert_user_error(code, err, "does not exist")
+
+
+def test_render_expose_and_damaged_tapes(capsys, tmp_path):
+    png, tape = tmp_path / "f.png", tmp_path / "f.tape"
+    code, _, err = run(capsys, "render", "carlas-island", "--size", SMALL, "--hours", "0.5", "-o", str(png),
+                       "--tape", str(tape))
+    assert code == 0, err
+    img = Image.open(png)
+    assert img.size == (48, 40)
+    assert "sunset:scene" in img.text and "sunset:settings" in img.text and "Software" in img.text
+    # the film-recorder stage alone reproduces the same picture from the tape
+    again = tmp_path / "g.png"
+    assert run(capsys, "expose", str(tape), "--hours", "0.5", "-o", str(again))[0] == 0
+    np.testing.assert_array_equal(np.asarray(Image.open(again)), np.asarray(img))
+    # truncated tape
+    data = tape.read_bytes()
+    cut = tmp_path / "cut.tape"
+    cut.write_bytes(data[: len(data) // 2])
+    out = tmp_path / "h.png"
+    code, _, err = run(capsys, "expose", str(cut), "--hours", "1", "-o", str(out))
+    assert_user_error(code, err, "cut.tape")
+    assert not out.exists()
+    # a file that is not a tape at all
+    junk = tmp_path / "junk.tape"
+    junk.write_bytes(b"not a tape at all" * 10)
+    code, _, err = run(capsys, "expose", str(junk), "--hours", "1", "-o", str(out))
+    assert_user_error(code, err, "junk.tape")
+
+
+def test_same_command_gives_identical_bytes(capsys, tmp_path):
+    a, b = tmp_path / "a.png", tmp_path / "b.png"
+    for p in (a, b):
+        assert run(capsys, "render", "carlas-island", "--size", SMALL, "--seed", "7", "-o", str(p))[0] == 0
+    assert a.read_bytes() == b.read_bytes()
+
+
+def test_python_dash_m_has_no_traceback(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "sunset", "render", str(tmp_path / "nope.toml"), "-o",
+                           str(tmp_path / "x.png")], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+
+
+def test_every_subcommand_has_help_with_examples(capsys):
+    for cmd in ("figures", "render", "expose", "film", "scene"):
+        with pytest.raises(SystemExit) as exc:
+            main([cmd, "--help"])
+        assert exc.value.code == 0
+        assert "examples:" in capsys.readouterr().out
