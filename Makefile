@@ -14,7 +14,8 @@ BOOK_EXECUTE ?= cache
 help:
 	@echo "make figures   regenerate the paper's figures and the film into figures/"
 	@echo "make test      run the test suite"
-	@echo "make book      build the Jupyter Book into book/_build/html"
+	@echo "make book      build the Jupyter Book into book/_build/html (BOOK_EXECUTE=force re-runs every chapter)"
+	@echo "make book-check  open every page of the built book in headless Chromium and check it"
 	@echo "make bench     time the renderer (writes figures/bench.json)"
 	@echo "make clean     remove the venv, builds and generated figures"
 

@@ -81,6 +81,20 @@ class Camera:
         """Fractional row of the horizon ζ = 0 (the sea's vanishing line)."""
         return self.zy_max / ((self.zy_max - self.zy_min) / self.height) - 0.5
 
+    def sea_y(self) -> np.ndarray:
+        """Where each row's ray meets mean sea level, y in metres, shape (height,).
+
+        The plane z = −h projects to ζ = −h/y, so the ray through a row
+        centre ζ < 0 meets still water at y = −h/ζ, on every scan line (the
+        distance is measured along the view axis, not along the ray). Rows
+        at or above the horizon ζ = 0 never meet it: ``inf``.
+        """
+        z = self.zy_centres()
+        out = np.full(z.shape, np.inf)
+        below = z < 0
+        out[below] = -self.eye_height / z[below]
+        return out
+
     def directions(self) -> np.ndarray:
         """Unit ray directions through every pixel centre, shape (height, width, 3)."""
         s = self.s_centres()[None, :]

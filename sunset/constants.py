@@ -50,3 +50,147 @@ PART_BEACH = 1
 PART_CLIFF = 2
 PART_HILL = 3
 PART_NAMES = {PART_NONE: "none", PART_BEACH: "beach", PART_CLIFF: "cliff", PART_HILL: "hill"}
+
+# ---------------------------------------------------------------------------
+# Colour codes, colour tables and the film (sunset/codes.py, sunset/dicomed.py,
+# sunset/tape.py, sunset/film.py). Appended by the colour-codes helper.
+
+#: Codes per group of the 8-bit code map (sunset/codes.py); they sum to N_CODES.
+#: Islands: green hill, brown cliff, tan beach (each a full turn of the
+#: sun-plane angle ψ, see codes.rho_hat); sky by the final ray's z component;
+#: the sun's track (|W·R| < sin δ) and the band beside it (sin δ <= |W·R| < sin 3δ),
+#: both by the reflected ray's elevation.
+CODES_HILL = 40
+CODES_CLIFF = 40
+CODES_BEACH = 24
+CODES_SKY = 56
+CODES_TRACK = 64
+CODES_HALO = 32
+
+#: The third code range spans sin δ <= |W·R| < sin(HALO_FACTOR·δ) (the paper: 3δ).
+HALO_FACTOR = 3.0
+
+#: Scale of the random number added to |W·R| before it is thresholded, as a
+#: fraction of sin δ: |W·R| + (u − 1/2)·TRACK_DITHER·sin δ, u uniform in [0, 1).
+TRACK_DITHER = 1.0
+
+#: How far towards sun colour the third range's entries go (0: sky, 1: sun).
+HALO_STRENGTH = 0.5
+
+#: Mean radius of the Earth, metres (spherical single-scattering sky).
+EARTH_RADIUS = 6.371e6
+
+#: Top of the model atmosphere, metres.
+ATMOSPHERE_TOP = 80.0e3
+
+#: Scale height of the molecular (Rayleigh) atmosphere, metres.
+RAYLEIGH_SCALE_HEIGHT = 8.0e3
+
+#: Scale height of the maritime aerosol, metres.
+AEROSOL_SCALE_HEIGHT = 1.2e3
+
+#: Ångström turbidity β (aerosol optical depth at 1 µm) and exponent α:
+#: τ_a(λ) = β (λ / 1 µm)^−α (Ångström 1929); β = 0.05 is a clear maritime sky.
+AEROSOL_ANGSTROM_BETA = 0.05
+AEROSOL_ANGSTROM_ALPHA = 1.3
+
+#: Henyey–Greenstein asymmetry g and single-scattering albedo ω of the aerosol.
+AEROSOL_ASYMMETRY = 0.76
+AEROSOL_ALBEDO = 0.9
+
+#: Total ozone column, Dobson units, and one Dobson unit in molecules m⁻².
+OZONE_COLUMN_DU = 300.0
+DOBSON_UNIT = 2.687e20
+
+#: The ozone layer: density a tent peaking at OZONE_PEAK_ALTITUDE, falling to
+#: zero OZONE_HALF_WIDTH below and above (10–40 km); and the single height of
+#: a thin layer used for the direct sun's ozone air mass (Komhyr 1980), metres.
+OZONE_PEAK_ALTITUDE = 25.0e3
+OZONE_HALF_WIDTH = 15.0e3
+OZONE_LAYER_ALTITUDE = 22.0e3
+
+#: Ozone absorption cross-section, m² per molecule, 360–830 nm in 10 nm bins
+#: (Serdyuchenko et al. 2014, 233 K, bin averages as tabulated by Bruneton 2017):
+#: the Chappuis band that keeps the twilight zenith blue (Hulburt 1953).
+OZONE_CROSS_SECTION_NM = tuple(range(360, 831, 10))
+OZONE_CROSS_SECTION = (
+    1.18e-27, 2.182e-28, 2.818e-28, 6.636e-28, 1.527e-27, 2.763e-27, 5.52e-27, 8.451e-27,
+    1.582e-26, 2.316e-26, 3.669e-26, 4.924e-26, 7.752e-26, 9.016e-26, 1.48e-25, 1.602e-25,
+    2.139e-25, 2.755e-25, 3.091e-25, 3.5e-25, 4.266e-25, 4.672e-25, 4.398e-25, 4.701e-25,
+    5.019e-25, 4.305e-25, 3.74e-25, 3.215e-25, 2.662e-25, 2.238e-25, 1.852e-25, 1.473e-25,
+    1.209e-25, 9.423e-26, 7.455e-26, 6.566e-26, 5.105e-26, 4.15e-26, 4.228e-26, 3.237e-26,
+    2.451e-26, 2.801e-26, 2.534e-26, 1.624e-26, 1.465e-26, 2.078e-26, 1.383e-26, 7.105e-27,
+)
+
+#: Effective temperature of the sun's photosphere, kelvin (blackbody spectrum).
+SUN_TEMPERATURE = 5778.0
+
+#: Elevation of the sun (degrees) at which a white horizontal surface in full
+#: sun is exposed to linear value 1 (the film's fixed exposure).
+EXPOSURE_SUN_ELEVATION = 30.0
+
+#: How far the exposure follows the light: the film is exposed for
+#: (sky luminance)^EXPOSURE_FOLLOW (0: a fixed exposure; 1: full automatic).
+EXPOSURE_FOLLOW = 0.75
+
+#: Film response 1 − exp(−FILM_GAMMA·x) on linear exposure x, per colour pass.
+FILM_GAMMA = 0.5
+
+#: Sub-samples per pixel side for the sun disk's anti-aliased rim.
+SUN_SUPERSAMPLE = 16
+
+#: Format version of tape files written by sunset/tape.py.
+TAPE_FORMAT_VERSION = 1
+
+#: Film defaults: frames per second and hours before sunset at the start/end.
+FILM_FPS = 24
+FILM_FROM_HOURS = 1.5
+FILM_TO_HOURS = -0.25
+
+# --- height field and islands (sunset/heightfield.py, sunset/islands.py) -----
+
+#: Near clipping plane of the direct rays, as a fraction of the distance
+#: h/|ζ| at which a ray at the steepest picture angle meets mean sea level.
+#: The sea's nearest sample is at (h − d)/|ζ_min| unless waves reach this
+#: close to the eye (d > (1 − NEAR_PLANE_FRACTION) h); then the plane clips.
+NEAR_PLANE_FRACTION = 0.25
+
+#: Samples (scan lines × samples) the vectorized scan line holds at once:
+#: the memory bound of sunset.heightfield (about 4 MB per float32 array).
+SCANLINE_CHUNK_ELEMENTS = 1 << 20
+
+#: Most refinement steps of the island lattice per sea sample (σ/m).
+ISLAND_MAX_REFINEMENT = 4096
+
+#: Most island samples per scan line and island, as a multiple of the
+#: sea's samples per scan line (a memory and time bound for islands very
+#: close to the eye; the refinement m is lowered to respect it).
+ISLAND_SAMPLE_BUDGET = 4
+
+#: Samples across an island's widest chord in the probe pass that chooses
+#: the island lattice's refinement m (sunset.heightfield).
+ISLAND_PROBE_SAMPLES = 64
+
+# --- Stokes waves (sunset/stokes.py). Appended by the waves-and-Stokes helper.
+
+#: Largest step in k·H (wave height times wave number) between two solutions
+#: of the continuation that leads the exact solver from a small wave to the
+#: requested one; a step is halved if Newton's method fails to converge.
+STOKES_CONTINUATION_STEP = 0.04
+
+#: Newton's method on Babenko's equation stops when its step is below this
+#: (dimensionless, in units of 1/k), after at most STOKES_NEWTON_ITERATIONS.
+STOKES_NEWTON_TOLERANCE = 1e-12
+STOKES_NEWTON_ITERATIONS = 40
+
+#: The exact wave is accepted when every Fourier coefficient of its surface
+#: in the last quarter of the resolved modes is below this (units of 1/k);
+#: otherwise the number of modes is doubled, up to STOKES_MAX_MODES.
+STOKES_TAIL_TOLERANCE = 1e-13
+STOKES_MIN_MODES = 16
+STOKES_MAX_MODES = 1024
+
+#: Auxiliary conformal map u = 2 arctan(L tan(q/2)) (Lushnikov, Dyachenko &
+#: Silantyev 2017) that crowds collocation points at the crest: by default
+#: L = min(1, STOKES_MAP_FACTOR * sqrt(STOKES_MAX_STEEPNESS - H/λ)).
+STOKES_MAP_FACTOR = 1.5

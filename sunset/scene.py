@@ -226,7 +226,11 @@ def _toml_value(v) -> str:
             return "inf" if v > 0 else "-inf"
         return repr(v)
     if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+        # TOML basic strings: escape \\ and ", and every control character
+        # (U+0000..U+001F, U+007F), which TOML does not allow raw.
+        out = v.replace("\\", "\\\\").replace('"', '\\"')
+        out = "".join(f"\\u{ord(c):04X}" if ord(c) < 0x20 or ord(c) == 0x7F else c for c in out)
+        return '"' + out + '"'
     raise TypeError(f"cannot write {v!r} to TOML")  # pragma: no cover
 
 

@@ -1,0 +1,113 @@
+"""Diagnostic maps of the three reflection modes (sunset/pierce.py).
+
+For each mode (0: straight to the sky, 1: one reflection with |R_z|, 2: two
+reflections) three maps of the same frame: what each ray finally meets (sky or
+an island part; rays that reflected on the sea drawn darker), how many times it
+reflected on the water, and the z component of the final ray of the rays that
+reach the sky (the quantity the sky's colour codes are made from).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
+from ..errors import require_int_range
+from ..io import check_writable, save_matplotlib
+
+#: Default size of each map, pixels (width, height): small, these are diagnostics.
+DEFAULT_SIZE = (256, 256)
+
+#: Colours of the final-surface classes: sky, beach, cliff, hill (RGB in 0..1).
+CLASS_COLOURS = {
+    "sky": (0.62, 0.78, 0.95),
+    "beach": (0.86, 0.74, 0.52),
+    "cliff": (0.55, 0.35, 0.20),
+    "hill": (0.30, 0.58, 0.25),
+}
+
+#: Colours of 0, 1 and 2 water reflections.
+BOUNCE_COLOURS = ((0.80, 0.80, 0.80), (0.25, 0.45, 0.85), (0.90, 0.30, 0.20))
+
+MODE_TITLES = {0: "mode 0: reflected rays to the sky", 1: "mode 1: one reflection, |R_z|",
+               2: "mode 2: two reflections"}
+
+
+def final_class_image(frame) -> np.ndarray:
+    """(H, W, 3) float RGB of what every ray finally meets; reflected pixels are darkened."""
+    rgb = np.empty(frame.shape + (3,))
+    rgb[:] = CLASS_COLOURS["sky"]
+    for part, name in ((PART_BEACH, "beach"), (PART_CLIFF, "cliff"), (PART_HILL, "hill")):
+        rgb[(frame.final_surface != SKY) & (frame.final_part == part)] = CLASS_COLOURS[name]
+    rgb[frame.surface == SEA] *= 0.7
+    return rgb
+
+
+def bounce_image(frame) -> np.ndarray:
+    """(H, W, 3) float RGB of the number of water reflections (0, 1, 2)."""
+    return np.asarray(BOUNCE_COLOURS)[frame.bounces]
+
+
+def final_rz_image(frame) -> np.ma.MaskedArray:
+    """The final ray's z component where the ray reaches the sky; masked where it meets an island."""
+    return np.ma.masked_where(frame.final_surface != SKY, frame.ray[..., 2])
+
+
+def reflection_modes(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: float = 0.0) -> Path:
+    """Render ``scene`` (default: the default scene) in each reflection mode and write the maps.
+
+    Parameters
+    ----------
+    path : path-like
+        The PNG to write (atomically).
+    size : (int, int)
+        (width, height) of each map in pixels.
+    scene : Scene, optional
+    t : float
+        Time, seconds.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..render import render
+    from ..scene import Scene
+
+    width, height = size
+    require_int_range("width", width, 1)
+    require_int_range("height", height, 1)
+    path = check_writable(path)
+    scene = (Scene.default() if scene is None else scene).with_size(width, height)
+    frames = {mode: render(scene, t, mode) for mode in (0, 1, 2)}
+
+    fig, axes = plt.subplots(3, 3, figsize=(10.5, 10.0), constrained_layout=True)
+    rz_max = max(float(np.max(f.ray[..., 2])) for f in frames.values())
+    for row, (mode, frame) in enumerate(frames.items()):
+        sea = frame.surface == SEA
+        share = float(np.mean(frame.bounces[sea] == 2)) if sea.any() else 0.0
+        ax = axes[row]
+        ax[0].imshow(final_class_image(frame), interpolation="nearest")
+        ax[0].set_title(f"{MODE_TITLES[mode]}\nfinal surface (reflected: darker)", fontsize=9)
+        ax[1].imshow(bounce_image(frame), interpolation="nearest")
+        ax[1].set_title(f"water reflections (grey 0, blue 1, red 2)\ntwice: {100 * share:.1f}% of sea pixels",
+                        fontsize=9)
+        im = ax[2].imshow(final_rz_image(frame), cmap="viridis", vmin=0.0, vmax=rz_max, interpolation="nearest")
+        ax[2].set_title("final ray's R_z (sky rays only)", fontsize=9)
+        fig.colorbar(im, ax=ax[2], shrink=0.8)
+        for a in ax:
+            a.set_xticks([])
+            a.set_yticks([])
+    fig.suptitle(f"{scene.title or 'scene'}: the three reflection modes, {width}×{height}, t = {t:g} s")
+    try:
+        save_matplotlib(fig, path)
+    finally:
+        plt.close(fig)
+    return Path(path)
