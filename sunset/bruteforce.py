@@ -256,3 +256,49 @@ def trace_direct_bruteforce(scene, t: float = 0.0, *, sea_step: float | None = N
     return Frame(t=float(t), reflections=0, direction=d.astype(np.float32), surface=surf.reshape(H, W),
                  part=part.reshape(H, W), distance=distance.reshape(H, W).astype(np.float32),
                  point=point.reshape(H, W, 3).astype(np.float32), normal=normal.reshape(H, W, 3).astype(np.float32))
+
+
+def compare(frame, reference) -> dict:
+    """How a frame's direct rays agree with a reference frame (e.g. this caster's).
+
+    Parameters
+    ----------
+    frame, reference : Frame
+        Of the same picture.
+
+    Returns
+    -------
+    dict
+        ``agree``: share of pixels whose surface class (sky, sea, island k)
+        is the same; ``agree_part``: share whose class and island part agree;
+        and for the pixels where both hit the same surface, the relative error
+        |d/d_ref − 1| of the hit distance: ``sea_median``, ``sea_p90``,
+        ``sea_p99``, ``island_median``, ``island_p90``, ``island_max`` (NaN
+        where there are no such pixels), with the pixel counts ``n_sea`` and
+        ``n_island``; and the angle between the two normals, degrees:
+        ``sea_normal_median``, ``sea_normal_p90``, ``island_normal_median``,
+        ``island_normal_p90``.
+    """
+    if frame.shape != reference.shape:
+        from .errors import SunsetError
+
+        raise SunsetError(f"frame must have the reference's shape {reference.shape}, got {frame.shape}")
+    same = frame.surface == reference.surface
+    out = {"agree": float(np.mean(same)),
+           "agree_part": float(np.mean(same & (frame.part == reference.part)))}
+    hit = same & (reference.surface != SKY)
+    rel = np.full(frame.shape, np.nan)
+    rel[hit] = np.abs(frame.distance[hit].astype(float) / reference.distance[hit].astype(float) - 1.0)
+    cosang = np.clip(np.sum(frame.normal.astype(float) * reference.normal.astype(float), axis=-1), -1.0, 1.0)
+    angle = np.degrees(np.arccos(np.where(hit, cosang, 1.0)))
+    for name, mask, stats in (("sea", same & (reference.surface == SEA), (50, 90, 99)),
+                              ("island", same & (reference.surface > 0), (50, 90, 100))):
+        vals = rel[mask]
+        out[f"n_{name}"] = int(vals.size)
+        for q in stats:
+            key = {50: "median", 100: "max"}.get(q, f"p{q}")
+            out[f"{name}_{key}"] = float(np.percentile(vals, q)) if vals.size else float("nan")
+        for q in (50, 90):
+            key = "median" if q == 50 else f"p{q}"
+            out[f"{name}_normal_{key}"] = float(np.percentile(angle[mask], q)) if vals.size else float("nan")
+    return out

@@ -190,6 +190,10 @@ STOKES_TAIL_TOLERANCE = 1e-13
 STOKES_MIN_MODES = 16
 STOKES_MAX_MODES = 1024
 
+#: Modes of the coarse grid on which the continuation runs; finer grids are
+#: reached by doubling, with one Newton solve each at the final height.
+STOKES_COARSE_MODES = 64
+
 #: Auxiliary conformal map u = 2 arctan(L tan(q/2)) (Lushnikov, Dyachenko &
 #: Silantyev 2017) that crowds collocation points at the crest: by default
 #: L = min(1, STOKES_MAP_FACTOR * sqrt(STOKES_MAX_STEEPNESS - H/λ)).

@@ -49,7 +49,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .codes import CODE_MAP, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations
+from .codes import (CODE_MAP, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
+                    track_elevation_max)
 from .constants import (AEROSOL_ALBEDO, AEROSOL_ANGSTROM_ALPHA, AEROSOL_ANGSTROM_BETA, AEROSOL_ASYMMETRY,
                         AEROSOL_SCALE_HEIGHT, ATMOSPHERE_TOP, DOBSON_UNIT, EARTH_RADIUS, EXPOSURE_SUN_ELEVATION, FILM_GAMMA,
                         EXPOSURE_FOLLOW, HALO_FACTOR, HALO_STRENGTH, OZONE_COLUMN_DU, OZONE_CROSS_SECTION,
@@ -426,8 +427,8 @@ def _tables_linear(sun: Sun, hours: float) -> np.ndarray:
 
     delta = sun.delta
     sun_lin = _film(sun_radiance(e_sun, delta), key)
-    w_track = (e_track[1] - e_track[0]) if len(e_track) > 2 else e_track[0] * 2
-    w_halo = (e_halo[1] - e_halo[0]) if len(e_halo) > 2 else e_halo[0] * 2
+    w_track = track_elevation_max(sun) / cmap.track.size       # elevation step of one code
+    w_halo = track_elevation_max(sun) / cmap.halo.size
     a = _tent(e_track, e_sun, max(delta, w_track), w_track)[:, None]
     b = HALO_STRENGTH * _tent(e_halo, e_sun, max(HALO_FACTOR * delta, w_halo), w_halo)[:, None]
     out[cmap.sky.start:cmap.sky.stop] = sky_lin

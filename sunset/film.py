@@ -46,7 +46,7 @@ _X264_PARAMS = ["-preset", "medium", "-crf", "18", "-threads", "2", "-x264-param
 
 
 def _bar(total: int, desc: str, progress: bool):
-    from tqdm.auto import tqdm
+    from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=not progress, leave=False)
 

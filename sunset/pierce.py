@@ -60,6 +60,7 @@ from .constants import PART_BEACH, PART_CLIFF, PART_HILL, PART_NONE, SEA, SKY
 from .errors import SunsetError, require_finite, require_int_range
 from .frame import Frame
 from .islands import Island
+from .stokes import series_crest_curvature
 from .waves import Sea, WaveTrain
 
 __all__ = [
@@ -389,14 +390,10 @@ def largest_train(sea: Sea) -> WaveTrain | None:
 def crest_curvature(train: WaveTrain) -> float:
     """κ = Σ_n a_n (n k)², the curvature of the train's Stokes series (eq. 2) at its crest, m⁻¹.
 
-    The series z(u) = Σ a_n cos(n k u) has z'(0) = 0 and z''(0) = −Σ a_n (nk)².
+    The series z(u) = Σ a_n cos(n k u) has z'(0) = 0 and z''(0) = −Σ a_n (nk)²;
+    :func:`sunset.stokes.series_crest_curvature` gives κ/k for the train's
+    steepness α = k a₁ and Stokes order.
     """
-    try:  # the Stokes module may offer it directly
-        from .stokes import series_crest_curvature
-    except ImportError:
-        amps = train.harmonic_amplitudes()
-        n = np.arange(1, len(amps) + 1)
-        return float(np.sum(amps * (n * train.k) ** 2))
     return float(series_crest_curvature(train.steepness, train.stokes_order)) * train.k
 
 
@@ -561,12 +558,14 @@ def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
     Returns
     -------
     Frame
-        The same frame, with ``bounces``, ``ray``, ``final_surface``,
-        ``final_part`` and ``final_normal`` filled for sea pixels.
+        The same frame, with ``reflections`` set and ``bounces``, ``ray``,
+        ``final_surface``, ``final_part`` and ``final_normal`` filled for sea
+        pixels (``final_normal`` is NaN where the ray ends in the sky).
     """
     require_int_range("reflections", reflections, 0, 2)
     if frame.bounces is None:
         frame.finish_direct()
+    frame.reflections = reflections
     sea_mask = frame.surface == SEA
     if not sea_mask.any():
         return frame

@@ -62,6 +62,7 @@ import numpy as np
 import scipy.linalg
 
 from .constants import (
+    STOKES_COARSE_MODES,
     STOKES_CONTINUATION_STEP,
     STOKES_MAP_FACTOR,
     STOKES_MAX_MODES,
@@ -317,6 +318,9 @@ class StokesWave:
         α = k·a₁, the maximum slope of the first harmonic.
     crest_curvature : float
         κ/k, curvature of the surface at the crest (positive: convex).
+    trough_curvature : float
+        Curvature over k at the trough (positive: concave up). Stokes waves
+        have sharp crests and flat troughs: it stays below ``crest_curvature``.
     bernoulli : float
         Bernoulli's constant ½ q² + k z on the surface, in units of g/k,
         with q the water's speed in the wave's frame.
@@ -339,6 +343,7 @@ class StokesWave:
     speed: float
     alpha: float
     crest_curvature: float
+    trough_curvature: float
     bernoulli: float
     residual: float
     tail: float
@@ -416,13 +421,6 @@ class StokesWave:
         return sum(a * np.cos(n * X) for n, a in enumerate(amps, start=1))
 
 
-def _default_modes(steepness: float) -> int:
-    for limit, n in ((0.08, 64), (0.11, 128), (0.13, 256), (0.137, 512)):
-        if steepness <= limit:
-            return n
-    return STOKES_MAX_MODES
-
-
 def _default_map(steepness: float) -> float:
     gap = max(STOKES_MAX_STEEPNESS - steepness, 0.0)
     return float(min(1.0, max(0.02, STOKES_MAP_FACTOR * math.sqrt(gap))))
@@ -483,23 +481,34 @@ def solve_stokes(steepness: float, n_modes: int | None = None, map_parameter: fl
 def _solve(steepness: float, n_modes: int | None, map_parameter: float | None) -> StokesWave:
     L = _default_map(steepness) if map_parameter is None else map_parameter
     if steepness == 0.0:
-        N = n_modes or STOKES_MIN_MODES
-        return _wave(steepness, np.zeros(N + 1), 1.0, L, 0.0, 0)
+        return _wave(steepness, np.zeros((n_modes or STOKES_MIN_MODES) + 1), 1.0, L, 0.0, 0)
     height = 2.0 * np.pi * steepness
-    N = n_modes or _default_modes(steepness)
+    # Continuation on a coarse grid, then Newton on finer and finer grids at the final height,
+    # each started from the previous solution, until the tail of the spectrum is small.
+    N = min(n_modes or STOKES_COARSE_MODES, STOKES_COARSE_MODES)
+    ops = _operators(N, L)
+    y, c, iterations = _continuation(height, ops)
     while True:
-        ops = _operators(N, L)
-        y, c, iterations = _continuation(height, ops)
         yn = ops.dct @ y
         tail = float(np.max(np.abs(yn[(3 * N) // 4:])))
-        if n_modes is not None or tail < STOKES_TAIL_TOLERANCE:
+        if n_modes is not None and N == n_modes:
             break
-        if N >= STOKES_MAX_MODES:
+        if n_modes is None and tail < STOKES_TAIL_TOLERANCE:
+            break
+        if n_modes is None and N >= STOKES_MAX_MODES:
             raise SunsetError(
                 f"steepness {steepness:.6g}: the exact Stokes solver needs more than {STOKES_MAX_MODES} "
                 f"modes this close to the highest wave (H/λ = {STOKES_MAX_STEEPNESS}); "
                 f"truncation error {tail:.1e}")
-        N *= 2
+        N = 2 * N if n_modes is None else min(2 * N, n_modes)
+        ops = _operators(N, L)
+        guess = ops.cos[:, : len(yn)] @ yn if len(yn) <= N + 1 else ops.cos @ yn[: N + 1]
+        result = _newton(guess, c, height, ops)
+        if result is None:  # fall back on continuation at this resolution
+            y, c, its = _continuation(height, ops)
+        else:
+            y, c, its = result
+        iterations += its
     Ky = ops.K @ y
     residual = float(np.max(np.abs(c * c * Ky - y - y * Ky - 0.5 * (ops.K @ (y * y)))))
     return _wave(steepness, yn, float(c), L, residual, iterations)
@@ -543,9 +552,17 @@ def _wave(steepness: float, yn: np.ndarray, c: float, L: float, residual: float,
     for k0 in range(1, N + 1, block):
         ks = np.arange(k0, min(k0 + block, N + 1))
         coefficients[ks - 1] = np.cos(np.outer(ks, x)) @ weight
-    # Crest: y'' = −Σ n² y_n, x' = L + Σ n y_n at q = 0.
-    x_q0 = L + float(np.sum(n * yn))
-    curvature = float(np.sum(n * n * yn)) / x_q0**2
+    # Crest: y'' = −Σ n² y_n, x' = L + Σ n y_n at q = 0. The sums stop where the
+    # coefficients reach their round-off plateau, which n² would otherwise amplify.
+    tail = float(np.max(np.abs(yn[(3 * N) // 4:])))
+    above = np.nonzero(np.abs(yn) > 10.0 * tail)[0]
+    top = int(above[-1]) + 1 if len(above) else N + 1
+    x_q0 = L + float(np.sum(n[:top] * yn[:top]))
+    curvature = float(np.sum(n[:top] ** 2 * yn[:top])) / x_q0**2
+    # Trough (q = π, where u' = 1/L): curvature y_xx = y_qq / x_q², positive (concave up).
+    sign = (-1.0) ** n[:top]
+    x_qpi = 1.0 / L + float(np.sum(sign * n[:top] * yn[:top]))
+    trough_curvature = -float(np.sum(sign * n[:top] ** 2 * yn[:top])) / x_qpi**2
     bernoulli = 0.5 * (c * L / x_q0) ** 2 + float(np.sum(yn))
     half = slice(0, M // 2 + 1)  # q from 0 to π: x from 0 to π, increasing
     table_x, table_q = x[half].copy(), q[half].copy()
@@ -554,8 +571,9 @@ def _wave(steepness: float, yn: np.ndarray, c: float, L: float, residual: float,
         arr.flags.writeable = False
     return StokesWave(
         steepness=steepness, height=2.0 * np.pi * steepness, coefficients=coefficients, speed=c,
-        alpha=float(coefficients[0]), crest_curvature=curvature, bernoulli=bernoulli,
-        residual=residual, tail=float(np.max(np.abs(yn[(3 * N) // 4:]))), n_modes=N,
+        alpha=float(coefficients[0]), crest_curvature=curvature, trough_curvature=trough_curvature,
+        bernoulli=bernoulli,
+        residual=residual, tail=tail, n_modes=N,
         map_parameter=L, iterations=iterations, conformal=yn, _table_x=table_x, _table_q=table_q)
 
 
@@ -602,14 +620,14 @@ def _fit(x, y, first: int, stride: int, terms: int) -> np.ndarray:
     return b / scale
 
 
-def expansion_fit(max_height: float = 0.2, samples: int = 16, terms: int = 5, n_modes: int = 48) -> ExpansionFit:
+def expansion_fit(max_height: float = 0.2, samples: int = 16, terms: int = 7, n_modes: int = 48) -> ExpansionFit:
     """Fit the expansion's low-order coefficients to exact Stokes waves of small height.
 
     Solves ``samples`` exact waves with k·H evenly spaced up to ``max_height``
     and fits each quantity by least squares with ``terms`` powers (the
     polynomial extrapolation to α → 0 of Richardson's method). With the
-    defaults (α <= 0.1, exact waves to 1e-15) the leading coefficients come out
-    to about 1e-9 and the next ones to about 1e-6.
+    defaults (α <= 0.1, exact waves to about 1e-15) the leading coefficient of
+    each quantity comes out to about 1e-11 and the next one to about 1e-8.
 
     Parameters
     ----------
@@ -636,14 +654,22 @@ def expansion_fit(max_height: float = 0.2, samples: int = 16, terms: int = 5, n_
     a = np.array([w.coefficients[:5] for w in waves])
     al = a[:, 0]
     c = np.array([w.speed for w in waves])
-    kappa = np.array([w.crest_curvature for w in waves])
+    # The crest series K(α) = Σ n² k a_n(α) has every power of α. Its value at −α
+    # is that of the wave shifted by half a wavelength (a_n -> (−1)^n a_n), whose
+    # "crest" is the trough: K(−α) = −(trough curvature). So the odd and even parts
+    # of K are fitted separately, each in powers of α².
+    crest = np.array([w.crest_curvature for w in waves])
+    trough = np.array([w.trough_curvature for w in waves])
+    curvature = np.empty(2 * terms)
+    curvature[0::2] = _fit(al, (crest + trough) / 2, 1, 2, terms)
+    curvature[1::2] = _fit(al, (crest - trough) / 2, 2, 2, terms)
     eps = heights / 2
     return ExpansionFit(
         alpha_max=float(al.max()),
         a2=_fit(al, a[:, 1], 2, 2, terms), a3=_fit(al, a[:, 2], 3, 2, terms),
         a4=_fit(al, a[:, 3], 4, 2, terms), a5=_fit(al, a[:, 4], 5, 2, terms),
         speed=_fit(al, c, 0, 2, terms), speed_squared=_fit(al, c * c, 0, 2, terms),
-        crest_curvature=_fit(al, kappa, 1, 1, 2 * terms),
+        crest_curvature=curvature,
         eps_a1=_fit(eps, a[:, 0], 1, 2, terms), eps_a2=_fit(eps, a[:, 1], 2, 2, terms),
         eps_speed=_fit(eps, c, 0, 2, terms),
     )

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from sunset.bruteforce import island_circle, island_hits, sea_hits, trace_direct_bruteforce
+from sunset.bruteforce import compare, island_circle, island_hits, sea_hits, trace_direct_bruteforce
 from sunset.camera import Camera
 from sunset.constants import PART_BEACH, PART_HILL, SEA, SKY
 from sunset.errors import SunsetError
@@ -88,3 +88,20 @@ def test_bad_arguments(kw, name):
     args = {"t": 0.0, **kw}
     with pytest.raises(SunsetError, match=f"^{name} "):
         trace_direct_bruteforce(scene, **args)
+
+
+def test_compare_counts_agreement_and_errors():
+    scene = Scene(camera=Camera(width=8, height=10))
+    ref = trace_direct_bruteforce(scene, 0.0)
+    same = compare(ref, ref)
+    assert same["agree"] == 1.0 and same["agree_part"] == 1.0
+    assert same["sea_median"] == 0.0 and same["n_island"] == 0 and np.isnan(same["island_max"])
+    other = trace_direct_bruteforce(scene, 0.0)
+    other.surface[0, :4] = SEA          # 4 of 80 pixels now disagree
+    other.distance[-1, 0] *= 1.5        # one sea distance 50 % off
+    res = compare(other, ref)
+    assert res["agree"] == pytest.approx(76 / 80)
+    assert res["n_sea"] == int((ref.surface == SEA).sum())
+    assert res["sea_p99"] > 0 and res["sea_median"] == 0.0
+    with pytest.raises(SunsetError, match="^frame "):
+        compare(trace_direct_bruteforce(scene.with_size(4, 4), 0.0), ref)

@@ -629,3 +629,19 @@ def test_bounding_test_only_skips_misses():
     np.testing.assert_array_equal(t, full.min(axis=1))
     np.testing.assert_array_equal(which, np.where(np.isfinite(full.min(axis=1)), full.argmin(axis=1) + 1, SKY))
     assert 0.02 < np.isfinite(t).mean() < 0.9
+
+
+# ----------------------------------------------------------------------------- the diagnostic figure
+def test_reflection_modes_figure(tmp_path):
+    from PIL import Image as PILImage
+
+    from sunset.figures.reflections import reflection_modes
+
+    a = reflection_modes(tmp_path / "a.png", size=(24, 16))
+    b = reflection_modes(tmp_path / "b.png", size=(24, 16))
+    assert a.read_bytes() == b.read_bytes()  # deterministic
+    with PILImage.open(a) as img:
+        assert img.size[0] > 100
+    with pytest.raises(SunsetError, match="^width "):
+        reflection_modes(tmp_path / "c.png", size=(0, 16))
+    assert not (tmp_path / "c.png").exists()
