@@ -210,10 +210,33 @@ COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expos
             "scene": _cmd_scene}
 
 
+# Options that take a value which may look like an option ("--size -5x10",
+# "--hours -0.5"): argparse would read such a value as an unknown option and
+# say only "expected one argument"; joined as "--size=-5x10" the value reaches
+# its parser, which says what is wrong with it.
+_VALUE_OPTIONS = frozenset({"--size", "--time", "--hours", "--from-hours", "--to-hours", "--frames",
+                            "--seed", "--fps", "--frame", "--reflections"})
+
+
+def _join_values(argv: list[str]) -> list[str]:
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        arg = argv[i]
+        if arg in _VALUE_OPTIONS and i + 1 < len(argv) and argv[i + 1].startswith("-") \
+                and not argv[i + 1].startswith("--"):
+            out.append(f"{arg}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(arg)
+        i += 1
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status (0 ok, 2 user error)."""
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser().parse_args(_join_values(list(sys.argv[1:] if argv is None else argv)))
         COMMANDS[args.command](args)
     except SunsetError as exc:
         print(f"sunset: error: {exc}", file=sys.stderr)

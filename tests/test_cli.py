@@ -137,3 +137,43 @@ def test_every_subcommand_has_help_with_examples(capsys):
             main([cmd, "--help"])
         assert exc.value.code == 0
         assert "examples:" in capsys.readouterr().out
+
+
+def test_tape_of_another_version(capsys, tmp_path):
+    import struct
+
+    tape = tmp_path / "f.tape"
+    assert run(capsys, "render", "carlas-island", "--size", SMALL, "-o", str(tmp_path / "f.png"),
+               "--tape", str(tape))[0] == 0
+    data = bytearray(tape.read_bytes())
+    struct.pack_into("<I", data, 8, 99)                 # the format version field after the magic
+    other = tmp_path / "other.tape"
+    other.write_bytes(bytes(data))
+    out = tmp_path / "o.png"
+    code, _, err = run(capsys, "expose", str(other), "--hours", "1", "-o", str(out))
+    assert_user_error(code, err, "other.tape", "version 99")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("argv", [
+    ["figures", "--only", "6", "--size", SMALL, "--quiet", "--out", "{blocker}"],
+    ["film", "carlas-island", "--size", "32x24", "--frames", "2", "--quiet", "-o", "{blocker}/f.mp4"],
+    ["render", "carlas-island", "--size", SMALL, "-o", "{blocker}/f.png"],
+])
+def test_output_under_a_file_is_a_clear_error(capsys, tmp_path, argv):
+    blocker = tmp_path / "plain-file"
+    blocker.write_text("I am a file, not a folder")
+    argv = [a.replace("{blocker}", str(blocker)) for a in argv]
+    code, _, err = run(capsys, *argv)
+    assert_user_error(code, err, "plain-file")
+    assert sorted(os.listdir(tmp_path)) == ["plain-file"]
+
+
+def test_negative_values_reach_their_checks(capsys, tmp_path):
+    # "--hours -0.5" (after sunset) is a valid request, not an unknown option
+    out = tmp_path / "after.png"
+    code, _, err = run(capsys, "render", "carlas-island", "--size", SMALL, "--hours", "-0.5", "-o", str(out))
+    assert code == 0, err
+    assert out.exists()
+    code, _, err = run(capsys, "render", "carlas-island", "--size", SMALL, "--seed", "-3", "-o", str(out))
+    assert_user_error(code, err, "--seed")

@@ -70,7 +70,12 @@ def make_figures(out: str | Path = "figures", only: str | None = None, size: tup
 
     names = parse_only(only)
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    if out.exists() and not out.is_dir():
+        raise SunsetError(f"{out}: cannot write figures there: it is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SunsetError(f"{out}: cannot create the output folder ({exc.strerror})") from None
     scene = Scene.default() if scene is None else scene
     written = []
     for name in names:
