@@ -295,6 +295,12 @@ def _check_frame(frame: Frame, shape: tuple[int, int]) -> None:
         raise SunsetError("frame.final_surface has sea pixels: trace the frame's reflections before coding it")
 
 
+def _rows(field, mask) -> np.ndarray:
+    """``field[mask]`` as float64 (N, 3) for an (H, W, 3) field: compress first (np.take by rows), then widen."""
+    flat = np.asarray(field).reshape(-1, 3)
+    return np.take(flat, np.flatnonzero(mask), axis=0).astype(float)
+
+
 def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
     """Code every pixel of a traced frame into 8 bits (the vector stage's output).
 
@@ -336,7 +342,7 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
     # islands: the sun-plane angle of the final normal
     island = surf >= 1
     if np.any(island):
-        normals = np.asarray(frame.final_normal, dtype=float)[island]
+        normals = _rows(frame.final_normal, island)
         rh = rho_hat(normals, sun)
         parts = part[island]
         ui = u[island]
@@ -355,7 +361,7 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
     # the sky: direct rays by z; reflected rays by the track test first
     sky = surf == SKY
     if np.any(sky):
-        ray = np.asarray(frame.ray, dtype=float)[sky]
+        ray = _rows(frame.ray, sky)
         z = ray[:, 2]
         us = u[sky]
         idx = cmap.sky.start + sky_index(z, cmap.sky.size, us)
@@ -364,7 +370,8 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
         e_max = track_elevation_max(sun)
         on_track = reflected & (wr < math.sin(sun.delta))
         beside = reflected & ~on_track & (wr < math.sin(HALO_FACTOR * sun.delta))
-        idx = np.where(on_track, cmap.track.start + elevation_index(z, cmap.track.size, e_max, us), idx)
-        idx = np.where(beside, cmap.halo.start + elevation_index(z, cmap.halo.size, e_max, us), idx)
+        # the elevation codes only where they are used (the glitter is a small subset)
+        for sel, rng_ in ((np.flatnonzero(on_track), cmap.track), (np.flatnonzero(beside), cmap.halo)):
+            idx[sel] = rng_.start + elevation_index(z[sel], rng_.size, e_max, us[sel])
         codes[sky] = idx
     return codes

@@ -133,8 +133,20 @@ EXPOSURE_SUN_ELEVATION = 30.0
 #: (sky luminance)^EXPOSURE_FOLLOW (0: a fixed exposure; 1: full automatic).
 EXPOSURE_FOLLOW = 0.75
 
-#: Film response 1 − exp(−FILM_GAMMA·x) on linear exposure x, per colour pass.
-FILM_GAMMA = 0.5
+#: The display's response to luminance x relative to the exposure:
+#: y = xⁿ/(xⁿ + σⁿ) (Naka & Rushton 1966), exponent n and semi-saturation σ.
+#: n below 1 compresses: the eye adapted to a sunset sky still sees the
+#: islands in shadow, some 300 times darker than the sky near the sun.
+EYE_RESPONSE_EXPONENT = 0.6
+EYE_SEMI_SATURATION = 2.0
+
+#: Refractive index of sea water in the visible (Fresnel reflectance of the
+#: sea, which lights the islands from below with reflected skylight).
+WATER_REFRACTIVE_INDEX = 1.34
+
+#: Samples of the component of an island normal along W (the code keeps only
+#: the sun-plane angle ψ; the skylight is averaged over the normals with that ψ).
+ISLAND_NORMAL_SAMPLES = 12
 
 #: Sub-samples per pixel side for the sun disk's anti-aliased rim.
 SUN_SUPERSAMPLE = 16

@@ -23,15 +23,22 @@ computed spectrally (380–780 nm) with colour-science:
   molecular and aerosol layers (Rayleigh phase function; Henyey–Greenstein
   for the aerosol), integrated numerically along the view ray, each point lit
   by the sun through its own slant column. Sky codes are evaluated looking
-  along the camera's axis (+y) at the code's elevation; track codes at the
-  point of the sun's circle with that elevation.
+  along the camera's axis (+y) at the code's elevation; track and halo codes
+  take the same sky value, brightening towards the sun's colour when the sun
+  passes their elevation.
 * **Islands**: measured reflectance spectra (ColorChecker "foliage" for the
   hill, "dark skin" for the brown cliff, CIE test colour sample 2 for the tan
-  beach) under direct sun × the code's cosine factor plus the diffuse sky
-  (the single-scattering sky integrated over the hemisphere).
-* **Film**: CIE 1931 XYZ → linear sRGB, a fixed exposure (a white horizontal
-  surface in full sun at 30° elevation exposes to 1) and a saturating film
-  response 1 − exp(−γx) in each pass, then the sRGB encoding.
+  beach) under the direct sun × the code's cosine factor, plus the skylight:
+  the irradiance from the whole sphere around the normal, the sky above and
+  the sea below reflecting it (Fresnel), averaged over the normals a code
+  stands for (:func:`island_normals`). Skylight is what keeps the islands'
+  shadowed sides from going black.
+* **Exposure and response**: CIE 1931 XYZ relative to a white horizontal card
+  in full sun at 30° (and to an exposure key that follows the light as it
+  fades), a compressive response of the eye to luminance (Naka–Rushton,
+  :func:`eye_response`) that keeps each colour's chromaticity, bleaching
+  towards white only what would pass full scale, then linear sRGB and its
+  encoding.
 
 The sun-disk rule
 -----------------
@@ -52,7 +59,8 @@ import numpy as np
 from .codes import (CODE_MAP, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
                     track_elevation_max)
 from .constants import (AEROSOL_ALBEDO, AEROSOL_ANGSTROM_ALPHA, AEROSOL_ANGSTROM_BETA, AEROSOL_ASYMMETRY,
-                        AEROSOL_SCALE_HEIGHT, ATMOSPHERE_TOP, DOBSON_UNIT, EARTH_RADIUS, EXPOSURE_SUN_ELEVATION, FILM_GAMMA,
+                        AEROSOL_SCALE_HEIGHT, ATMOSPHERE_TOP, DOBSON_UNIT, EARTH_RADIUS, EXPOSURE_SUN_ELEVATION, EYE_RESPONSE_EXPONENT,
+                        EYE_SEMI_SATURATION, ISLAND_NORMAL_SAMPLES, WATER_REFRACTIVE_INDEX,
                         EXPOSURE_FOLLOW, HALO_FACTOR, HALO_STRENGTH, OZONE_COLUMN_DU, OZONE_CROSS_SECTION,
                         OZONE_CROSS_SECTION_NM, OZONE_HALF_WIDTH, OZONE_LAYER_ALTITUDE, OZONE_PEAK_ALTITUDE,
                         RAYLEIGH_SCALE_HEIGHT, SUN_SUPERSAMPLE,
@@ -63,6 +71,7 @@ from .sun import Sun
 __all__ = [
     "spectral_data", "tables_linear", "kasten_young_air_mass", "slant_columns", "sky_radiance", "sun_transmittance", "sun_radiance", "sun_colour",
     "visible_fraction", "ozone_air_mass", "island_lighting", "tables", "sun_coverage", "expose", "PASSES",
+    "eye_response", "fresnel_reflectance", "irradiance", "sky_dome", "island_normals",
 ]
 
 #: The three passes of the film recorder, in order.
@@ -343,6 +352,114 @@ def island_lighting(sun_dir, delta: float) -> tuple[np.ndarray, np.ndarray]:
     return direct, diffuse
 
 
+def fresnel_reflectance(cos_i, n: float = WATER_REFRACTIVE_INDEX) -> np.ndarray:
+    """Unpolarised Fresnel reflectance of a flat surface of refractive index n (air → water).
+
+    R = (R_s + R_p)/2 with R_s = ((cos i − n cos t)/(cos i + n cos t))² and
+    R_p = ((n cos i − cos t)/(n cos i + cos t))², sin t = sin i / n: about 2%
+    at normal incidence, rising to 1 at grazing incidence.
+
+    Parameters
+    ----------
+    cos_i : array_like
+        Cosine of the angle of incidence (clipped to [0, 1]).
+    """
+    c = np.clip(np.asarray(cos_i, dtype=float), 0.0, 1.0)
+    ct = np.sqrt(1.0 - (1.0 - c * c) / (n * n))
+    rs = ((c - n * ct) / (c + n * ct)) ** 2
+    rp = ((n * c - ct) / (n * c + ct)) ** 2
+    return 0.5 * (rs + rp)
+
+
+@functools.lru_cache(maxsize=None)
+def _sphere() -> tuple[np.ndarray, np.ndarray]:
+    """Directions and solid angles dΩ covering the whole sphere (midpoint rule in μ = cos(zenith), φ).
+
+    The first half of the rows is the upper hemisphere, the second half its
+    mirror image in the horizontal plane, row for row.
+    """
+    mu = (np.arange(_N_HEMI_MU) + 0.5) / _N_HEMI_MU
+    phi = (np.arange(_N_HEMI_PHI) + 0.5) * (2 * math.pi / _N_HEMI_PHI)
+    mu, phi = np.meshgrid(mu, phi, indexing="ij")
+    sin_t = np.sqrt(1.0 - mu * mu)
+    up = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), mu], axis=-1).reshape(-1, 3)
+    d_omega = np.full(len(up), (1.0 / _N_HEMI_MU) * (2 * math.pi / _N_HEMI_PHI))
+    return np.concatenate([up, up * np.array([1.0, 1.0, -1.0])]), np.concatenate([d_omega, d_omega])
+
+
+def irradiance(normals, directions, radiance, solid_angles) -> np.ndarray:
+    """E(N) = Σ L(ω) max(N·ω, 0) ΔΩ: the irradiance a radiance field gives a surface with normal N.
+
+    Parameters
+    ----------
+    normals : array_like (..., 3)
+        Unit normals.
+    directions : array_like (M, 3)
+        Unit directions ω the light comes from.
+    radiance : array_like (M, n_λ)
+        Radiance arriving from each direction.
+    solid_angles : array_like (M,)
+        ΔΩ of each direction.
+
+    Returns
+    -------
+    ndarray (..., n_λ)
+    """
+    cos = np.clip(np.asarray(normals, dtype=float) @ np.asarray(directions, dtype=float).T, 0.0, None)
+    return (cos * np.asarray(solid_angles, dtype=float)) @ np.asarray(radiance, dtype=float)
+
+
+def sky_dome(sun_dir) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The light around an island: the sky above and the sea below, reflecting it.
+
+    Above the horizon the single-scattering sky (:func:`sky_radiance`); below
+    it the sea as a calm mirror: the sky seen in the mirror direction times the
+    Fresnel reflectance of water (:func:`fresnel_reflectance`).
+
+    Returns
+    -------
+    (ndarray (M, 3), ndarray (M, n_λ), ndarray (M,))
+        Directions, radiance (per unit E₀) and solid angles over the sphere.
+    """
+    dirs, d_omega = _sphere()
+    half = len(dirs) // 2
+    sky = sky_radiance(dirs[:half], sun_dir)
+    sea = fresnel_reflectance(dirs[:half, 2])[:, None] * sky
+    return dirs, np.concatenate([sky, sea]), d_omega
+
+
+def island_normals(sun: Sun, psi, samples: int = ISLAND_NORMAL_SAMPLES) -> tuple[np.ndarray, np.ndarray]:
+    """The normals an island code stands for, and their weights.
+
+    A code keeps only the angle ψ of N's projection on the plane of the
+    sun's circle, N = cos β (U cos ψ + V sin ψ) + sin β W. The component
+    along W, sin β, is lost: the normals of one code are taken uniformly over
+    the sphere (weight cos β) among those that face up (N_z > 0, as every
+    point of a height field does).
+
+    Parameters
+    ----------
+    sun : Sun
+    psi : array_like (K,)
+        Sun-plane angles, radians.
+    samples : int
+        Values of β, midpoints of (−π/2, π/2).
+
+    Returns
+    -------
+    (ndarray (K, samples, 3), ndarray (K, samples))
+        Normals and weights that sum to 1 for each ψ.
+    """
+    psi = np.asarray(psi, dtype=float).reshape(-1)
+    beta = ((np.arange(samples) + 0.5) / samples - 0.5) * math.pi
+    in_plane = np.cos(psi)[:, None] * sun.U + np.sin(psi)[:, None] * sun.V            # (K, 3)
+    n = np.cos(beta)[None, :, None] * in_plane[:, None, :] + np.sin(beta)[None, :, None] * sun.W
+    w = np.where(n[..., 2] > 0.0, np.cos(beta)[None, :], 0.0)
+    total = w.sum(axis=1, keepdims=True)
+    w = np.where(total > 0, w / np.where(total > 0, total, 1.0), 1.0 / samples)
+    return n, w
+
+
 @functools.lru_cache(maxsize=None)
 def _reference_white() -> np.ndarray:
     """XYZ of a white horizontal card in full sun at the reference elevation (sun + sky)."""
@@ -373,18 +490,49 @@ def exposure_key(sun_dir) -> float:
     return key ** EXPOSURE_FOLLOW
 
 
+def eye_response(x) -> np.ndarray:
+    """The display's response to relative luminance x >= 0: a Naka–Rushton curve, in [0, 1).
+
+    y = xⁿ / (xⁿ + σⁿ) with n = :data:`~sunset.constants.EYE_RESPONSE_EXPONENT`
+    and σ = :data:`~sunset.constants.EYE_SEMI_SATURATION` (Naka & Rushton 1966):
+    the photoreceptors' compressive response, which is why the eye, adapted to a
+    sunset sky, still sees the islands in their shadow that a photograph
+    exposed for the same sky shows black. Below σ it is nearly the power law
+    (x/σ)ⁿ, so a ratio of 300 in luminance becomes a ratio of 300ⁿ ≈ 20.
+    """
+    a = np.power(np.clip(np.asarray(x, dtype=float), 0.0, None), EYE_RESPONSE_EXPONENT)
+    return a / (a + EYE_SEMI_SATURATION ** EYE_RESPONSE_EXPONENT)
+
+
 def _film(radiance: np.ndarray, key: float) -> np.ndarray:
-    """Spectral radiance (..., n_λ) → the film's linear response in each pass (..., 3)."""
-    lin = np.clip(_xyz_to_linear_srgb(_spectrum_to_xyz(radiance) / (float(_reference_white()[1]) * key)), 0.0, None)
-    return 1.0 - np.exp(-FILM_GAMMA * lin)
+    """Spectral radiance (..., n_λ) → the linear display value in each pass (..., 3).
+
+    XYZ relative to the white card and the exposure key, the eye's response
+    (:func:`eye_response`) applied to the luminance Y, and linear sRGB scaled
+    by y/Y, so the compression keeps each colour's chromaticity. A colour
+    that would pass 1 in some pass is mixed towards the grey of the same
+    luminance until it fits: very bright light (the sun, its glitter) bleaches
+    towards white, as it does on film and in the eye.
+    """
+    xyz = _spectrum_to_xyz(radiance) / (float(_reference_white()[1]) * key)
+    lin = np.clip(_xyz_to_linear_srgb(xyz), 0.0, None)
+    y = np.clip(xyz[..., 1], 0.0, None)
+    resp = eye_response(y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = np.where(y > 1e-12, resp / np.where(y > 1e-12, y, 1.0), 0.0)
+    rgb = lin * scale[..., None]
+    top = rgb.max(axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(top > 1.0, (top - 1.0) / np.where(top > 1.0, top - resp, 1.0), 0.0)
+    rgb = (1.0 - t[..., None]) * rgb + t[..., None] * resp[..., None]
+    return np.clip(rgb, 0.0, 1.0)
 
 
 # --------------------------------------------------------------------------- the tables
-def _track_direction(sun: Sun, elevation: np.ndarray) -> np.ndarray:
-    """The afternoon point of the sun's circle at each elevation (clipped to its highest)."""
-    s = np.clip(np.sin(elevation) / math.sin(math.radians(sun.tilt)), -1.0, 1.0)
-    phi = np.arcsin(s)[:, None]
-    return sun.U * np.cos(phi) + sun.V * np.sin(phi)
+def _axis_direction(elevation: np.ndarray) -> np.ndarray:
+    """The direction along the camera's axis (+y) at each elevation."""
+    e = np.asarray(elevation, dtype=float)
+    return np.stack([np.zeros_like(e), np.cos(e), np.sin(e)], axis=-1)
 
 
 def _tent(centres: np.ndarray, at: float, radius: float, width: float) -> np.ndarray:
@@ -416,10 +564,11 @@ def _tables_linear(sun: Sun, hours: float) -> np.ndarray:
     z = sky_code_z(cmap.sky.size)
     e_sky = np.arcsin(z)
     sky_dirs = np.stack([np.zeros_like(z), np.cos(e_sky), z], axis=-1)
-    # track and halo: the sun's circle at the code's elevation
+    # track and halo: away from the sun's height they are the sky "as before" (the
+    # sky at the same elevation), so the track shows no seam where it is not glittering
     e_track = track_code_elevations(cmap.track.size, sun)
     e_halo = track_code_elevations(cmap.halo.size, sun)
-    dirs = np.concatenate([sky_dirs, _track_direction(sun, e_track), _track_direction(sun, e_halo)])
+    dirs = np.concatenate([sky_dirs, _axis_direction(e_track), _axis_direction(e_halo)])
     key = exposure_key(p)
     sky = _film(sky_radiance(dirs, p), key)
     n1, n2 = cmap.sky.size, cmap.sky.size + cmap.track.size
@@ -436,12 +585,15 @@ def _tables_linear(sun: Sun, hours: float) -> np.ndarray:
     out[cmap.halo.start:cmap.halo.stop] = (1 - b) * halo_sky + b * sun_lin
 
     # islands: reflectance × (direct × cosine factor + diffuse sky)
-    direct, diffuse = island_lighting(p, delta)
-    r_bar = math.sqrt(max(0.0, 1.0 - float(sun.W[2]) ** 2))   # |N_UV| of a horizontal surface
+    direct, _ = island_lighting(p, delta)
+    dome = sky_dome(p)
     sp = spectral_data()
     for rng, name in zip(cmap.islands, ("hill", "cliff", "beach")):
         f = _island_factors(theta, rng.size)[:, None]
-        radiance = sp.reflectance[name] * (direct * r_bar * f + diffuse) / math.pi
+        normals, w = island_normals(sun, sun_plane_angle(island_code_rho(rng.size)))
+        cos_beta = (w * np.hypot(normals @ sun.U, normals @ sun.V)).sum(axis=1)[:, None]  # mean |N_UV|
+        skylight = np.einsum("kj,kjl->kl", w, irradiance(normals, *dome))
+        radiance = sp.reflectance[name] * (direct * cos_beta * f + skylight) / math.pi
         out[rng.start:rng.stop] = _film(radiance, key)
     return out, sun_lin
 

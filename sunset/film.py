@@ -12,7 +12,7 @@ the repeated frames were differently illuminated each time through the cycle"
 2. :func:`write_film` replays the tape ``cycles`` times while the hours before
    sunset run linearly from ``from_hours`` to ``to_hours``: film frame j
    shows tape frame j mod N through the tables for its own hour. It writes an
-   MP4 (H.264, yuv420p, constant frame rate) and a small looping GIF preview.
+   MP4 (H.264, yuv420p, constant frame rate) and a small looping preview (GIF or WebP).
 
 Only the film recorder runs in step 2: no frame is traced again.
 """
@@ -149,7 +149,8 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
         The film: H.264 in MP4, yuv420p, ``fps`` frames per second (an odd
         picture size is padded by one row or column to make it even).
     path_preview : path, optional
-        A small looping GIF: every k-th film frame (at most
+        A small looping preview, WebP if the name ends in ``.webp`` and GIF
+        otherwise: every k-th film frame (at most
         :data:`PREVIEW_FRAMES`), ``preview_width`` pixels wide.
     from_hours, to_hours : float
         Hours before sunset at the first and the last film frame.
@@ -200,8 +201,12 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
         from .io import write_bytes
 
         buf = io.BytesIO()
-        preview[0].save(buf, format="GIF", save_all=True, append_images=preview[1:], loop=0,
-                        duration=round(1000 * step / fps), optimize=False)
+        if Path(path_preview).suffix.lower() == ".webp":
+            preview[0].save(buf, format="WEBP", save_all=True, append_images=preview[1:], loop=0,
+                            duration=round(1000 * step / fps), quality=80, method=4)
+        else:
+            preview[0].save(buf, format="GIF", save_all=True, append_images=preview[1:], loop=0,
+                            duration=round(1000 * step / fps), optimize=False)
         write_bytes(path_preview, buf.getvalue())
         written.append(path_preview)
     return written

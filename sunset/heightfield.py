@@ -49,6 +49,7 @@ kept as an option). Each surface gives a yp for every pixel, and the nearest
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -56,6 +57,7 @@ import numpy as np
 from .constants import (
     ISLAND_MAX_REFINEMENT, ISLAND_PROBE_SAMPLES, ISLAND_SAMPLE_BUDGET, NEAR_PLANE_FRACTION, PART_NONE, SCANLINE_CHUNK_ELEMENTS, SEA, SKY,
 )
+from . import compiled
 from .errors import require_finite
 from .frame import Frame
 
@@ -244,6 +246,19 @@ def scan_convert(u, g, zeta0: float, dzeta: float, n_pixels: int):
     return out
 
 
+def _scan(u, g, counts, zeta0: float, dzeta: float, n_pixels: int):
+    """:func:`scan_convert`, or its compiled twin :func:`sunset.compiled.scan_columns` when enabled.
+
+    ``counts`` (samples per row; None for all) lets the compiled loop stop
+    at the end of each row's real samples.
+    """
+    if compiled.enabled():
+        if counts is None:
+            counts = np.full(g.shape[0], g.shape[1], np.int64)
+        return compiled.scan_columns(u, g, counts, zeta0, dzeta, n_pixels)
+    return scan_convert(u, g, zeta0, dzeta, n_pixels)
+
+
 # ---------------------------------------------------------------------------
 # the sea along scan lines: g(y) and the gradient in the paper's b_j, c_j form
 
@@ -310,14 +325,33 @@ def sea_profile(sea, s, u, h: float, t: float = 0.0):
     if u.size == 0:
         return elev
     phase = np.empty_like(elev)
-    for _l, _m, b, c, amps in _sea_terms(sea, s, t):
+    acc = None
+    const = 0.0
+    for i, (_l, _m, b, c, amps) in enumerate(_sea_terms(sea, s, t)):
         np.multiply(b[:, None], y[None, :], out=phase)
         phase += c
         np.cos(phase, out=phase)
-        _cos_harmonics(phase, amps, elev)
-    elev -= _F32(h)
+        # Σ_n a_n cos nθ = Σ_j p_j cos^j θ (Chebyshev), by Horner's rule in place; p_0 is added once at the end
+        p = _chebyshev_power(amps)
+        const += p[0]
+        if i == 0:
+            acc = elev
+        elif acc is elev:
+            acc = np.empty_like(elev)
+        np.multiply(phase, _F32(p[-1]), out=acc)
+        for pj in p[-2:0:-1]:
+            acc += _F32(pj)
+            acc *= phase
+        if acc is not elev:
+            elev += acc
+    elev += _F32(const - h)
     elev *= u.astype(_F32)[None, :]
     return elev
+
+
+def _chebyshev_power(amps) -> np.ndarray:
+    """p_0 … p_N with Σ_n a_n T_n(x) = Σ_j p_j x^j (T_n the Chebyshev polynomials, cos nθ = T_n(cos θ))."""
+    return np.polynomial.chebyshev.cheb2poly(np.concatenate([[0.0], np.asarray(amps, dtype=float)]))
 
 
 def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
@@ -335,22 +369,29 @@ def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     y = np.asarray(y, dtype=_F32)
     fx = np.zeros(y.shape, dtype=_F32)
     fy = np.zeros(y.shape, dtype=_F32)
+    th = np.empty(y.shape, dtype=_F32)
+    tmp = np.empty(y.shape, dtype=_F32)
     for l, m, b, c, amps in _sea_terms(sea, s, t):
-        th = b * y + c
+        np.multiply(b, y, out=th)
+        th += c
         sn = np.sin(th)
-        cs = np.cos(th)
-        # Σ_n n a_n sin nθ = sin θ Σ_n n a_n U_(n−1)(cos θ)
-        n = len(amps)
-        poly = np.full(y.shape, _F32(amps[0]))
-        if n >= 2:
-            poly += _F32(2 * 2 * amps[1]) * cs                         # 2 a2 · 2c
-        if n >= 3:
-            poly += _F32(3 * amps[2]) * (_F32(4) * cs * cs - _F32(1))  # 3 a3 (4c² − 1)
-        if n >= 4:
-            poly += _F32(4 * amps[3]) * cs * (_F32(8) * cs * cs - _F32(4))  # 4 a4 (8c³ − 4c)
-        poly *= sn
-        fx -= _F32(l) * poly
-        fy -= _F32(m) * poly
+        # Σ_n n a_n sin nθ = sin θ · q(cos θ), q = p′ the derivative of Σ_n a_n T_n (sin nθ = sin θ U_(n−1), n U_(n−1) = T_n′)
+        q = np.polynomial.polynomial.polyder(_chebyshev_power(amps))
+        if len(q) > 1:
+            cs = np.cos(th, out=th)
+            np.multiply(cs, _F32(q[-1]), out=tmp)
+            for qj in q[-2:0:-1]:
+                tmp += _F32(qj)
+                tmp *= cs
+            tmp += _F32(q[0])
+            sn *= tmp
+            slope, scale = sn, 1.0
+        else:
+            slope, scale = sn, q[0]
+        np.multiply(slope, _F32(l * scale), out=tmp)
+        fx -= tmp
+        np.multiply(slope, _F32(m * scale), out=tmp)
+        fy -= tmp
     return fx, fy
 
 
@@ -390,16 +431,20 @@ def _island_lattice(island, s, samp: Sampling, d: float, refine: int):
 def _island_profile(island, s, u, valid, h: float):
     """g = (H − h)·u on the island's samples, −inf where not valid (float32).
 
-    Only the valid samples are evaluated.
+    Only the valid samples are evaluated (:func:`_island_profile_flat`).
     """
     g = np.full(u.shape, -np.inf, dtype=_F32)
-    rows, cols = np.nonzero(valid)
-    uu = u[rows, cols]
-    y = (1.0 / uu).astype(_F32)
-    x = (s[rows] * y).astype(_F32)
-    hgt = island.surface(x, y, with_gradient=False)[0]
-    g[rows, cols] = (hgt.astype(_F32) - _F32(h)) * uu.astype(_F32)
+    rows = np.nonzero(valid)[0]
+    g[valid] = _island_profile_flat(island, s[rows], u[valid], h)
     return g
+
+
+def _island_profile_flat(island, s_rows, uu, h: float):
+    """g = (H − h)·u at samples ``uu`` (1/y) on scan lines ``s_rows`` (same shape), float32."""
+    y = (1.0 / uu).astype(_F32)
+    x = (s_rows * y).astype(_F32)
+    hgt = island.surface(x, y, with_gradient=False)[0]
+    return (hgt.astype(_F32) - _F32(h)) * uu.astype(_F32)
 
 
 def _probe_refinement(island, s, samp: Sampling, d: float) -> int | None:
@@ -430,15 +475,34 @@ def _island_samples(island, s, samp: Sampling, d: float, h: float, m0: int, zeta
     Returns
     -------
     (u, valid) : (ndarray (C, T) float64 near to far, ndarray (C, T) bool), or None.
+        Row c holds its samples first, then zeros (``valid`` False).
+    """
+    flat = _island_samples_flat(island, s, samp, d, h, m0, zeta0, dzeta, K, sigma, budget)
+    if flat is None:
+        return None
+    uf, count = flat
+    T = int(count.max()) if count.size else 0
+    valid = np.arange(T)[None, :] < count[:, None]
+    u = np.zeros(valid.shape)
+    u[valid] = uf
+    return u, valid
+
+
+def _island_samples_flat(island, s, samp: Sampling, d: float, h: float, m0: int, zeta0: float, dzeta: float,
+                         K: int, sigma: float, budget: int):
+    """:func:`_island_samples` as one flat array: (u (S,) float64, count (C,) int64), or None.
+
+    The samples of scan line c are ``u[start[c] : start[c] + count[c]]``,
+    near to far, with start the exclusive cumulative sum of ``count``.
     """
     lat = _island_lattice(island, s, samp, d, m0)
     if lat is None:
         return None
     up, vp = lat
-    gp = _island_profile(island, s, up, vp, h).astype(np.float64)
     C, P = up.shape
     if P < 2:
-        return up, vp
+        return up[vp], vp.sum(axis=1).astype(np.int64)
+    gp = _island_profile(island, s, up, vp, h).astype(np.float64)
     with np.errstate(invalid="ignore"):
         r = np.clip((gp - zeta0) / dzeta, -1.0, K + 1.0)
     pair = vp[:, 1:] & vp[:, :-1]
@@ -449,29 +513,35 @@ def _island_samples(island, s, samp: Sampling, d: float, h: float, m0: int, zeta
         d2[:, :-1] = dd
         d2[:, 1:] = np.maximum(d2[:, 1:], dd)
     n = np.where(pair, np.maximum(1, np.ceil((np.abs(dr) + d2) / sigma)), 0).astype(np.int64)
+    # samples only where they can be seen: an interval that stays, with its allowance and a pixel to
+    # spare, below the profile's running maximum nearer to the eye is hidden behind the island itself
+    reach = np.maximum(r[:, 1:], r[:, :-1]) + np.abs(dr) + d2 + 1.0
+    nearer_top = np.maximum.accumulate(np.where(vp, r, -np.inf), axis=1)[:, :-1]
+    n[pair & (reach < nearer_top)] = 1
     total = n.sum(axis=1)
     over = total > budget
     if over.any():
         scale = np.where(over, budget / np.maximum(total, 1), 1.0)
         n = np.where(pair, np.maximum(1, np.floor(n * scale[:, None])), 0).astype(np.int64)
         total = n.sum(axis=1)
-    count = np.where(vp.any(axis=1), total + 1, 0)  # + the far end of the chord
-    T = int(count.max())
-    u = np.zeros((C, T))
-    valid = np.arange(T)[None, :] < count[:, None]
+    has = vp.any(axis=1)
+    count = np.where(has, total + 1, 0).astype(np.int64)  # + the far end of the chord
+    last_valid = vp.sum(axis=1) - 1
+    if compiled.enabled():
+        return compiled.expand_intervals(up, n, count, last_valid), count
+    # the intervals' samples in row-major order (row c, interval j, part q)
     flat_n = n.ravel()
     pair_id = np.repeat(np.arange(flat_n.size), flat_n)
     start = np.cumsum(flat_n) - flat_n
     q = np.arange(pair_id.size) - start[pair_id]
     c, j = np.divmod(pair_id, P - 1)
-    first = np.cumsum(n, axis=1) - n  # position of each interval's first sample in its row
     ua, ub = up[c, j], up[c, j + 1]
-    u[c, first[c, j] + q] = ua + (ub - ua) * (q / n[c, j])
-    rows = np.nonzero(count)[0]
-    last_valid = vp.sum(axis=1) - 1
-    u[rows, count[rows] - 1] = up[rows, last_valid[rows]]
-    u = np.where(valid, u, 0.0)
-    return u, valid
+    u = ua + (ub - ua) * (q / n[c, j])
+    # and each row's far end of the chord after its intervals
+    rows = np.nonzero(has)[0]
+    ends = np.cumsum(total)[rows]
+    u = np.insert(u, ends, up[rows, last_valid[rows]])
+    return u, count
 
 
 # ---------------------------------------------------------------------------
@@ -493,7 +563,10 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     info : dict, optional
         Filled with counts: ``sea_samples`` (per scan line), ``island_samples``
         (total over scan lines and islands), ``probe`` (the refinement of
-        the sea's lattice the islands' probes used), ``tail_pixels`` (pixels resolved by the far tail).
+        the sea's lattice the islands' probes used), ``tail_pixels`` (pixels resolved by the far tail),
+        and ``seconds``: wall-clock time spent on ``sea`` (profile and scan
+        conversion), ``islands`` (sampling, profile, scan conversion, depth
+        test) and ``assemble`` (points, distances, normals), for the benchmark.
 
     Returns
     -------
@@ -516,10 +589,16 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     best_u = np.zeros((W, H))                 # 1/yp of the nearest surface, 0: none
     best_surf = np.full((W, H), SKY, dtype=np.int8)
     stats = {"sea_samples": samp.n, "island_samples": 0, "probe": [], "tail_pixels": 0}
+    seconds = {"sea": 0.0, "islands": 0.0, "assemble": 0.0}
+    clock = time.perf_counter
+    tick = clock()
     # the islands' probe refinements, once for all scan lines
     probes = [_probe_refinement(island, s_all, samp, d) for island in scene.islands]
     budget = ISLAND_SAMPLE_BUDGET * max(samp.n, H)
     stats["probe"] = probes
+    tock = clock()
+    seconds["islands"] += tock - tick
+    tick = tock
 
     n_per = max(samp.n, 1)
     chunk = max(1, min(W, SCANLINE_CHUNK_ELEMENTS // n_per))
@@ -529,7 +608,7 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
         # the sea
         if samp.n:
             g = sea_profile(scene.sea, s, u_sea_lattice, h, t)
-            u_hit = scan_convert(u_sea_lattice, g, zeta0, dz, H)
+            u_hit = _scan(u_sea_lattice, g, None, zeta0, dz, H)
             # the far tail: the plane at the farthest sample's height
             tail = (u_hit == 0) & (zeta[None, :] < 0)
             if tail.any():
@@ -542,27 +621,42 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
             sea_hit = u_hit > 0
             best_u[cols][sea_hit] = u_hit[sea_hit]
             best_surf[cols][sea_hit] = SEA
+        tock = clock()
+        seconds["sea"] += tock - tick
+        tick = tock
         # the islands: per-scan-line depth buffer, the nearest (largest u) wins
         for k, (island, m0) in enumerate(zip(scene.islands, probes), start=1):
             if m0 is None:
                 continue
-            if refine_islands:
-                lat = _island_samples(island, s, samp, d, h, m0, zeta0, dz, H, cam.sigma, budget)
+            if refine_islands and compiled.enabled():
+                # the same samples, kept compressed: no padding to evaluate or scan
+                lat = _island_samples_flat(island, s, samp, d, h, m0, zeta0, dz, H, cam.sigma, budget)
+                if lat is None:
+                    continue
+                u, counts = lat
+                g = _island_profile_flat(island, np.repeat(s, counts), u, h)
             else:
-                lat = _island_lattice(island, s, samp, d, 1)
-            if lat is None:
-                continue
-            u, valid = lat
-            stats["island_samples"] += int(valid.sum())
-            g = _island_profile(island, s, u, valid, h)
-            u_hit = scan_convert(u, g, zeta0, dz, H)
+                if refine_islands:
+                    lat = _island_samples(island, s, samp, d, h, m0, zeta0, dz, H, cam.sigma, budget)
+                else:
+                    lat = _island_lattice(island, s, samp, d, 1)
+                if lat is None:
+                    continue
+                u, valid = lat
+                counts = valid.sum(axis=1)
+                g = _island_profile(island, s, u, valid, h)
+            stats["island_samples"] += int(counts.sum())
+            u_hit = _scan(u, g, counts, zeta0, dz, H)
             nearer = u_hit > best_u[cols]
             best_u[cols][nearer] = u_hit[nearer]
             best_surf[cols][nearer] = k
-
+        tock = clock()
+        seconds["islands"] += tock - tick
+        tick = tock
     frame = _assemble(scene, t, best_u, best_surf, s_all, zeta)
+    seconds["assemble"] = clock() - tick
     if info is not None:
-        info.update(stats)
+        info.update(stats, seconds=seconds)
     return frame
 
 
@@ -570,12 +664,50 @@ def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:
     """Hit points, distances, normals and parts from 1/yp and the winning surface.
 
     ``best_u`` and ``best_surf`` are (scan line, pixel from the bottom); the
-    frame's arrays are (row from the top, column).
+    frame's arrays are (row from the top, column). The geometry is one pass
+    of :func:`sunset.compiled.assemble` when the compiled kernels are on,
+    else :func:`_assemble_geometry`; the normals come from the gradients on
+    the compressed subsets of sea and island pixels.
     """
     cam = scene.camera
-    H, W = cam.height, cam.width
+    W = cam.width
+    if compiled.enabled():
+        surf, y, direction, point, distance, normal = compiled.assemble(best_u, best_surf, s_all, zeta, SKY, SEA)
+    else:
+        surf, y, direction, point, distance, normal = _assemble_geometry(best_u, best_surf, s_all, zeta)
+    part = np.full(surf.shape, PART_NONE, dtype=np.int8)
+    flat_surf = surf.reshape(-1)
+    flat_y = y.reshape(-1)
+    # the sea: the gradient in the b_j, c_j form, on the sea pixels only
+    idx = np.flatnonzero(flat_surf == SEA)
+    if len(idx):
+        fx, fy = sea_gradient_on_scanlines(scene.sea, s_all[idx % W], flat_y[idx], t)
+        if compiled.enabled():
+            compiled.put_unit_normals(normal, idx, fx, fy)
+        else:
+            normal.reshape(-1, 3)[idx] = _unit_normal(fx, fy)
+    for k, island in enumerate(scene.islands, start=1):
+        idx = np.flatnonzero(flat_surf == k)
+        if not len(idx):
+            continue
+        yk = flat_y[idx]
+        _, prt, gx, gy = island.surface((s_all[idx % W] * yk).astype(_F32), yk.astype(_F32))
+        part.reshape(-1)[idx] = prt
+        normal.reshape(-1, 3)[idx] = _unit_normal(gx.astype(_F32), gy.astype(_F32))
+    return Frame(t=t, reflections=0, direction=direction, surface=surf, part=part, distance=distance,
+                 point=point, normal=normal)
+
+
+def _assemble_geometry(best_u, best_surf, s_all, zeta):
+    """The per-pixel geometry as whole-array operations (the reference for :func:`sunset.compiled.assemble`).
+
+    Returns surf (H, W) int8, y (H, W) float64 (NaN for sky), direction and
+    point (H, W, 3) float32, distance (H, W) float32 and normal (H, W, 3)
+    float32, NaN everywhere (the sea's and the islands' are filled later).
+    """
     surf = np.ascontiguousarray(best_surf[:, ::-1].T)
     u = np.ascontiguousarray(best_u[:, ::-1].T)
+    H, W = surf.shape
     hit = surf != SKY
     with np.errstate(divide="ignore"):
         y = np.where(hit, 1.0 / u, np.nan)                 # (H, W)
@@ -593,25 +725,7 @@ def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:
     point[..., 2] = z * y
     distance = np.where(hit, y * length, np.inf).astype(_F32)
     normal = np.full((H, W, 3), np.nan, dtype=_F32)
-    part = np.full((H, W), PART_NONE, dtype=np.int8)
-    rows, cols = np.nonzero(hit)
-    which = surf[rows, cols]
-    yy = y[rows, cols]
-    # the sea: the gradient in the b_j, c_j form
-    sel = which == SEA
-    if sel.any():
-        fx, fy = sea_gradient_on_scanlines(scene.sea, s_all[cols[sel]], yy[sel], t)
-        normal[rows[sel], cols[sel]] = _unit_normal(fx, fy)
-    for k, island in enumerate(scene.islands, start=1):
-        sel = which == k
-        if not sel.any():
-            continue
-        yk = yy[sel]
-        _, prt, gx, gy = island.surface((s_all[cols[sel]] * yk).astype(_F32), yk.astype(_F32))
-        part[rows[sel], cols[sel]] = prt
-        normal[rows[sel], cols[sel]] = _unit_normal(gx.astype(_F32), gy.astype(_F32))
-    return Frame(t=t, reflections=0, direction=direction, surface=surf, part=part, distance=distance,
-                 point=point, normal=normal)
+    return surf, y, direction, point, distance, normal
 
 
 def _unit_normal(fx, fy):

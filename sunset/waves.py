@@ -15,8 +15,9 @@ fundamental ω₁; since ω ∝ √k, the wavelengths must be λ, λ/4, λ/9, λ
 (:attr:`Sea.period`).
 
 The surface and its gradient are evaluated in float64 whatever the input
-dtype (a float32 phase ℓx + my of a few hundred radians would lose a tenth of
-a radian) and returned in the inputs' floating dtype. The harmonics cos nθ
+dtype (a float32 phase ℓx + my is off by about 1e-7 of its size: 5e-5 rad for
+a 2.5 m wave 300 m away, 7e-3 rad 40 km away, near the horizon) and returned
+in the inputs' floating dtype. The harmonics cos nθ
 and sin nθ come from one cos θ and one sin θ by the angle-addition recurrence,
 the paper's remark that the first few terms of eq. 2 can be had "so that the
 cosine need only be computed once".

@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import quad
+from scipy.stats import spearmanr
 
 from sunset import dicomed
 from sunset.camera import Camera
@@ -167,13 +168,16 @@ def test_islands_lit_and_shadowed_by_rho_against_sin_theta(hours):
         part = lum[rg.start:rg.stop]
         assert lit.any() and dark.any()
         assert part[lit].min() > part[dark].max()
-        assert np.ptp(part[dark]) < 1e-12                   # shadow: skylight only, the same for all
+        # shadow: skylight only, which varies with the normal far less than sunlight does
+        assert np.ptp(part[dark]) < 0.5 * (part[lit].min() - part[dark].max()) + 0.5 * np.ptp(part[lit])
         # the brightest code is the one at ρ̂ = sin(θ − π/2) (N along the sun, within one code)
         k = int(np.argmax(part))
         assert abs(rh[k] - math.sin(theta - math.pi / 2)) <= 1.5 / B
         # and brightness follows cos(θ − ψ) of the code's centre
         psi = sun_plane_angle(rh[lit])
-        assert np.corrcoef(np.cos(theta - psi), part[lit])[0, 1] > 0.95
+        # (in rank: the eye's response is compressive, and skylight, which varies with the
+        # normal too, competes with the low sun's weak beam near sunset)
+        assert spearmanr(np.cos(theta - psi), part[lit])[0] > (0.95 if hours >= 2 else 0.8)
 
 
 @pytest.mark.parametrize("hours", [0.05, 0.3, 1.0, 2.5, 4.5])
@@ -322,3 +326,87 @@ def test_expose_rejects_bad_codes():
         expose(scene, np.zeros((6, 8), np.int32), 1.0)
     with pytest.raises(SunsetError, match="shape"):
         expose(scene, np.zeros((8, 6), np.uint8), 1.0)
+
+
+# --------------------------------------------------------------------------- skylight and the eye
+def test_irradiance_quadrature_against_closed_forms():
+    from sunset.dicomed import _sphere, irradiance
+
+    dirs, d_omega = _sphere()
+    assert math.isclose(d_omega.sum(), 4 * math.pi, rel_tol=1e-12)
+    rng = np.random.default_rng(5)
+    n = rng.normal(size=(2, 3, 3))
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    # a uniform field of radiance 1 gives π on every surface
+    e = irradiance(n, dirs, np.ones((len(dirs), 2)), d_omega)
+    assert e.shape == (2, 3, 2)
+    np.testing.assert_allclose(e, math.pi, rtol=0.02)
+    # a cosine lobe L = max(ω·a, 0) gives 2π/3 on the surface facing a, 0 facing away
+    a = np.array([0.0, 0.0, 1.0])
+    lobe = np.clip(dirs @ a, 0, None)[:, None]
+    assert math.isclose(float(irradiance(a, dirs, lobe, d_omega)[0]), 2 * math.pi / 3, rel_tol=0.02)
+    assert float(irradiance(-a, dirs, lobe, d_omega)[0]) == 0.0
+
+
+def test_fresnel_reflectance_of_water():
+    from sunset.constants import WATER_REFRACTIVE_INDEX as n
+    from sunset.dicomed import fresnel_reflectance
+
+    assert math.isclose(float(fresnel_reflectance(1.0)), ((n - 1) / (n + 1)) ** 2, rel_tol=1e-12)
+    assert math.isclose(float(fresnel_reflectance(0.0)), 1.0, rel_tol=1e-12)
+    # at Brewster's angle the p-polarised part vanishes: R = R_s / 2
+    b = math.atan(n)
+    ct = math.cos(math.asin(math.sin(b) / n))
+    rs = ((math.cos(b) - n * ct) / (math.cos(b) + n * ct)) ** 2
+    assert math.isclose(float(fresnel_reflectance(math.cos(b))), rs / 2, rel_tol=1e-9)
+    r = fresnel_reflectance(np.linspace(0, 1, 50))
+    assert np.all(np.diff(r) < 0)
+    assert fresnel_reflectance(np.zeros((2, 3, 1))).shape == (2, 3, 1)
+
+
+def test_island_normals_keep_the_code_angle_and_face_up():
+    from sunset.dicomed import island_normals
+
+    psi = np.linspace(0, 2 * math.pi, 40, endpoint=False)
+    n, w = island_normals(SUN, psi)
+    assert n.shape == (40, 12, 3) and w.shape == (40, 12)
+    np.testing.assert_allclose(np.linalg.norm(n, axis=-1), 1.0, atol=1e-12)
+    got = np.mod(np.arctan2(n @ SUN.V, n @ SUN.U), 2 * math.pi)
+    np.testing.assert_allclose(np.cos(got - psi[:, None]), 1.0, atol=1e-9)
+    np.testing.assert_allclose(w.sum(axis=1), 1.0)
+    assert np.all(n[..., 2][w > 0] > 0)
+
+
+def test_eye_response():
+    from sunset.constants import EYE_RESPONSE_EXPONENT as n, EYE_SEMI_SATURATION as sigma
+    from sunset.dicomed import eye_response
+
+    assert math.isclose(float(eye_response(sigma)), 0.5)
+    x = np.logspace(-4, 3, 50)
+    y = eye_response(x)
+    assert np.all(np.diff(y) > 0) and np.all((y >= 0) & (y < 1))
+    # far below σ it is the power law (x/σ)^n: a luminance ratio r becomes r^n
+    small = eye_response(np.array([1e-12, 3e-12]))
+    assert math.isclose(small[1] / small[0], 3.0**n, rel_tol=1e-4)
+    assert eye_response(np.zeros((2, 3, 1))).shape == (2, 3, 1)
+
+
+def test_islands_in_shadow_are_dimly_visible_at_sunset():
+    """Near sunset, the shadowed island codes are dark but well above black, and below the sky."""
+    sun = Scene.default().sun
+    lin = tables_linear(sun, 0.35)
+    lum = lin.T @ np.array([0.2126, 0.7152, 0.0722])
+    sky = lum[CODE_MAP.sky.start:CODE_MAP.sky.start + 10].mean()
+    for rg in CODE_MAP.islands:
+        part = lum[rg.start:rg.stop]
+        assert 0.01 < part.min() < 0.3 * sky
+
+
+def test_sky_grades_with_height_at_sunset():
+    """The sky codes in the picture (0–10°) differ visibly: more than 10 levels in some pass."""
+    from sunset.codes import sky_code_z
+
+    tab = tables(Scene.default().sun, 0.35).astype(int)
+    z = sky_code_z(CODE_MAP.sky.size)
+    inside = np.nonzero(z < math.sin(math.radians(10)))[0] + CODE_MAP.sky.start
+    assert np.ptp(tab[:, inside], axis=1).max() > 10

@@ -143,3 +143,19 @@ def test_png_of_a_film_frame_is_deterministic(tape):
     a = png_bytes(next(film_frames(tape, 0.3, 0.3, 1))[1])
     b = png_bytes(next(film_frames(tape, 0.3, 0.3, 1))[1])
     assert a == b
+
+
+def test_webp_preview_loops_and_is_deterministic(tmp_path, tape):
+    outs = []
+    for name in ("a", "b"):
+        _, prev = write_film(tape, tmp_path / f"{name}.mp4", tmp_path / f"{name}.webp", from_hours=1.0,
+                             to_hours=-0.2, cycles=2, fps=12, progress=False)
+        outs.append(prev.read_bytes())
+    assert outs[0] == outs[1]
+    with Image.open(tmp_path / "a.webp") as im:
+        assert im.format == "WEBP" and im.n_frames == 8 and im.info.get("loop") == 0
+        im.seek(im.n_frames - 1)
+        last = np.asarray(im.convert("RGB"))
+    # the preview's last frame is the film's last frame, downscaled only if wider than the preview
+    _, rgb = list(film_frames(tape, 1.0, -0.2, cycles=2))[-1]
+    assert np.mean(np.abs(last.astype(int) - rgb)) < 12
