@@ -20,7 +20,7 @@ FIGURES: dict[str, tuple[str, str]] = {
     "7": ("fig7.png", "Figure 7: Figure 6's tape with early-afternoon tables"),
     "diagnostic": ("diagnostic.png", "surface classes and normals of the default scene"),
     "reflections": ("reflections.png", "the three reflection modes, diagnostic maps"),
-    "film": ("film.mp4", "the colour-table animation of one wave cycle (and film-preview.gif)"),
+    "film": ("film.mp4", "the colour-table animation of one wave cycle (and film-preview.webp)"),
 }
 
 
@@ -57,7 +57,7 @@ def make_figure(name: str, out: Path, scene, size: tuple[int, int] | None = None
     if name == "film":
         from ..film import make_film
         sc = scene.with_size(*size) if size else scene
-        return list(make_film(sc, out / "film.mp4", out / "film-preview.gif", frames=film_frames,
+        return list(make_film(sc, out / "film.mp4", out / "film-preview.webp", frames=film_frames,
                               seed=seed, progress=progress))
     raise SunsetError(f"unknown figure {name!r}")  # pragma: no cover - parse_only guards
 
