@@ -246,19 +246,6 @@ def scan_convert(u, g, zeta0: float, dzeta: float, n_pixels: int):
     return out
 
 
-def _scan(u, g, counts, zeta0: float, dzeta: float, n_pixels: int):
-    """:func:`scan_convert`, or its compiled twin :func:`sunset.compiled.scan_columns` when enabled.
-
-    ``counts`` (samples per row; None for all) lets the compiled loop stop
-    at the end of each row's real samples.
-    """
-    if compiled.enabled():
-        if counts is None:
-            counts = np.full(g.shape[0], g.shape[1], np.int64)
-        return compiled.scan_columns(u, g, counts, zeta0, dzeta, n_pixels)
-    return scan_convert(u, g, zeta0, dzeta, n_pixels)
-
-
 # ---------------------------------------------------------------------------
 # the sea along scan lines: g(y) and the gradient in the paper's b_j, c_j form
 
@@ -606,9 +593,16 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
         cols = slice(c0, min(W, c0 + chunk))
         s = s_all[cols]
         # the sea
-        if samp.n:
+        if samp.n and compiled.enabled():
+            # the scan line, the far tail and the depth buffer in one compiled pass (the same arithmetic)
             g = sea_profile(scene.sea, s, u_sea_lattice, h, t)
-            u_hit = _scan(u_sea_lattice, g, None, zeta0, dz, H)
+            stats["tail_pixels"] += compiled.scan_merge(u_sea_lattice, g, np.full(len(s), samp.n), zeta0, dz, H,
+                                                        best_u[cols], best_surf[cols], SEA,
+                                                        tail_u_far=u_sea_lattice[-1])
+            del g
+        elif samp.n:
+            g = sea_profile(scene.sea, s, u_sea_lattice, h, t)
+            u_hit = scan_convert(u_sea_lattice, g, zeta0, dz, H)
             # the far tail: the plane at the farthest sample's height
             tail = (u_hit == 0) & (zeta[None, :] < 0)
             if tail.any():
@@ -646,7 +640,10 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
                 counts = valid.sum(axis=1)
                 g = _island_profile(island, s, u, valid, h)
             stats["island_samples"] += int(counts.sum())
-            u_hit = _scan(u, g, counts, zeta0, dz, H)
+            if compiled.enabled():
+                compiled.scan_merge(u, g, counts, zeta0, dz, H, best_u[cols], best_surf[cols], k)
+                continue
+            u_hit = scan_convert(u, g, zeta0, dz, H)
             nearer = u_hit > best_u[cols]
             best_u[cols][nearer] = u_hit[nearer]
             best_surf[cols][nearer] = k

@@ -33,6 +33,23 @@ CLASS_COLOURS = {
 ISLAND_SHADES = (1.0, 0.78, 0.6)
 
 
+def prepare(path, size: tuple[int, int], scene=None):
+    """Check a diagnostic's output path and size; the scene (default: the default scene) at that size.
+
+    Returns
+    -------
+    (Path, Scene)
+        The checked output path and the resized scene.
+    """
+    from ..scene import Scene
+
+    width, height = size
+    require_int_range("width", width, 1)
+    require_int_range("height", height, 1)
+    path = check_writable(path)
+    return path, (Scene.default() if scene is None else scene).with_size(width, height)
+
+
 def class_image(frame) -> np.ndarray:
     """(H, W, 3) float RGB of what each direct ray meets (islands shaded by number)."""
     rgb = np.empty(frame.shape + (3,))
@@ -79,13 +96,8 @@ def diagnostic(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: float 
     from matplotlib.patches import Patch
 
     from ..heightfield import trace_direct
-    from ..scene import Scene
 
-    width, height = size
-    require_int_range("width", width, 1)
-    require_int_range("height", height, 1)
-    path = check_writable(path)
-    scene = (Scene.default() if scene is None else scene).with_size(width, height)
+    path, scene = prepare(path, size, scene)
     info: dict = {}
     frame = trace_direct(scene, t, info=info)
 
@@ -105,7 +117,7 @@ def diagnostic(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: float 
     for a in axes:
         a.set_xticks([])
         a.set_yticks([])
-    fig.suptitle(f"{scene.title or 'scene'}: direct rays, {width}×{height}, t = {t:g} s, σ = {scene.camera.sigma:g} px "
+    fig.suptitle(f"{scene.title or 'scene'}: direct rays, {scene.camera.width}×{scene.camera.height}, t = {t:g} s, σ = {scene.camera.sigma:g} px "
                  f"({info['sea_samples']} sea samples per scan line)")
     try:
         save_matplotlib(fig, path)

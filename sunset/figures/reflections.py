@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
-from ..errors import require_int_range
-from ..io import check_writable, save_matplotlib
+from ..io import save_matplotlib
+from .diagnostic import prepare
 
 #: Default size of each map, pixels (width, height): small, these are diagnostics.
 DEFAULT_SIZE = (256, 256)
@@ -79,13 +79,8 @@ def reflection_modes(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: 
     import matplotlib.pyplot as plt
 
     from ..render import render
-    from ..scene import Scene
 
-    width, height = size
-    require_int_range("width", width, 1)
-    require_int_range("height", height, 1)
-    path = check_writable(path)
-    scene = (Scene.default() if scene is None else scene).with_size(width, height)
+    path, scene = prepare(path, size, scene)
     frames = {mode: render(scene, t, mode) for mode in (0, 1, 2)}
 
     fig, axes = plt.subplots(3, 3, figsize=(10.5, 10.0), constrained_layout=True)
@@ -105,7 +100,7 @@ def reflection_modes(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: 
         for a in ax:
             a.set_xticks([])
             a.set_yticks([])
-    fig.suptitle(f"{scene.title or 'scene'}: the three reflection modes, {width}×{height}, t = {t:g} s")
+    fig.suptitle(f"{scene.title or 'scene'}: the three reflection modes, {scene.camera.width}×{scene.camera.height}, t = {t:g} s")
     try:
         save_matplotlib(fig, path)
     finally:
