@@ -6,11 +6,22 @@ timed runs, of which the median is reported, with the peak resident memory of
 that process. Ratios are against the Cray-1's 34 s for one Figure 6 frame and
 against the project's brute-force ray caster measured in the same run (scaled
 per pixel).
+
+Measured: the Figure 6 frame (two reflections, default scene) at 1020 × 1023
+and 1024 × 1024, split into stages (the sea's scan line, the islands, points
+and normals, reflections with secondary reflections, codes, the film
+recorder); the same frame with the NumPy reference kernels only; a 64-frame
+wave cycle coded (both cores) and filmed; the brute-force caster; how the cost
+of the vector stage grows with the picture size and with the number of wave
+trains and islands; and a profile of one frame (the functions where the time
+goes). Everything lands in one JSON file (``figures/bench.json``), which the
+book's "Speed" chapter reads from a committed snapshot.
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
 import os
 import platform
@@ -19,12 +30,29 @@ import statistics
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 from .constants import CRAY1_SECONDS_FIGURE6
 
 #: Repeats per measurement (after one warm-up run).
 REPEATS = 5
+
+#: The picture sizes of the Figure 6 frame: the paper's and a power of two.
+FRAME_SIZES = ((1020, 1023), (1024, 1024))
+
+#: Stages of one frame, in pipeline order (names as they appear in the table and the JSON).
+STAGES = ("sea scan line", "islands", "points & normals", "reflections", "codes", "film recorder")
+
+#: Frames of the wave cycle, and its picture size.
+CYCLE_FRAMES = 64
+CYCLE_SIZE = (1020, 1023)
+
+#: Picture sizes, wave-train counts and island counts of the scaling study (vector stage only).
+SCALING_SIZES = (128, 256, 512, 768, 1024)
+SCALING_TRAINS = (1, 2, 4, 8)
+SCALING_ISLANDS = (0, 1, 2, 3, 6)
+SCALING_SIZE = 512
 
 
 def _timed(fn, repeats: int):
@@ -37,37 +65,40 @@ def _timed(fn, repeats: int):
     return times
 
 
-def _measure_frame(width: int, height: int, repeats: int) -> dict:
-    """Time a Figure 6 frame (two reflections, default scene), stage by stage."""
+def _frame_once(scene, t: float = 0.0) -> dict:
+    """One Figure 6 frame, stage by stage: seconds per stage (see :data:`STAGES`)."""
     from .codes import encode
     from .dicomed import expose
     from .heightfield import trace_direct
     from .pierce import trace_reflections
+
+    info: dict = {}
+    t0 = time.perf_counter()
+    frame = trace_direct(scene, t, info=info)
+    frame.reflections = 2
+    frame.finish_direct()
+    t1 = time.perf_counter()
+    trace_reflections(scene, frame, 2)
+    t2 = time.perf_counter()
+    codes = encode(scene, frame, seed=0)
+    t3 = time.perf_counter()
+    expose(scene, codes, 0.35)
+    t4 = time.perf_counter()
+    sec = info["seconds"]
+    direct_other = (t1 - t0) - sum(sec.values())  # finish_direct and bookkeeping: with the points
+    return {"sea scan line": sec["sea"], "islands": sec["islands"],
+            "points & normals": sec["assemble"] + direct_other, "reflections": t2 - t1, "codes": t3 - t2,
+            "film recorder": t4 - t3, "vector stage": t3 - t0, "total": t4 - t0}
+
+
+def _measure_frame(width: int, height: int, repeats: int) -> dict:
+    """Time a Figure 6 frame (two reflections, default scene), stage by stage."""
     from .scene import Scene
 
     scene = Scene.default().with_size(width, height)
-    stages = {"direct": [], "reflections": [], "codes": [], "film recorder": [], "total": []}
-
-    def once(record: bool):
-        t0 = time.perf_counter()
-        frame = trace_direct(scene, 0.0)
-        frame.reflections = 2
-        frame.finish_direct()
-        t1 = time.perf_counter()
-        trace_reflections(scene, frame, 2)
-        t2 = time.perf_counter()
-        codes = encode(scene, frame, seed=0)
-        t3 = time.perf_counter()
-        expose(scene, codes, 0.35)
-        t4 = time.perf_counter()
-        if record:
-            for k, v in zip(stages, (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t4 - t0)):
-                stages[k].append(v)
-
-    once(False)
-    for _ in range(repeats):
-        once(True)
-    return {k: v for k, v in stages.items()}
+    _frame_once(scene)  # warm-up (and the compiled kernels' load)
+    runs = [_frame_once(scene) for _ in range(repeats)]
+    return {k: [r[k] for r in runs] for k in runs[0]}
 
 
 def _measure_brute(width: int, height: int, repeats: int) -> dict:
@@ -78,37 +109,188 @@ def _measure_brute(width: int, height: int, repeats: int) -> dict:
     return {"total": _timed(lambda: trace_direct_bruteforce(scene, 0.0), repeats)}
 
 
-def _measure_cycle(width: int, height: int, repeats: int, frames: int = 64) -> dict:
+def _measure_cycle(width: int, height: int, repeats: int, frames: int = CYCLE_FRAMES) -> dict:
+    """A wave cycle coded (both cores) and filmed: the two steps and their sum."""
     import tempfile
 
-    from .film import make_film
+    from .film import render_cycle, write_film
     from .scene import Scene
 
     scene = Scene.default().with_size(width, height)
+    out = {"coded": [], "filmed": [], "total": []}
     with tempfile.TemporaryDirectory() as tmp:
-        def run():
-            make_film(scene, Path(tmp) / "f.mp4", None, frames=frames, progress=False)
-        return {"total": _timed(run, repeats)}
+        for i in range(repeats + 1):  # the first is the warm-up
+            t0 = time.perf_counter()
+            tape = render_cycle(scene, frames, progress=False)
+            t1 = time.perf_counter()
+            write_film(tape, Path(tmp) / "f.mp4", None, progress=False)
+            t2 = time.perf_counter()
+            if i:
+                for k, v in zip(out, (t1 - t0, t2 - t1, t2 - t0)):
+                    out[k].append(v)
+    return out
 
 
-MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle}
+def _vector_stage_seconds(scene, repeats: int) -> float:
+    """Median seconds of render + encode (the vector stage) for one scene, after a warm-up."""
+    from .codes import encode
+    from .render import render
+
+    return statistics.median(_timed(lambda: encode(scene, render(scene, 0.0, 2)), repeats))
+
+
+def _scaled_sea(sea, count: int):
+    """A sea of ``count`` trains: the default's, then shorter ones (λ/n², so it stays periodic)."""
+    from .waves import Sea, WaveTrain
+
+    base = list(sea.trains)
+    trains = base[:count]
+    n = len(base) + 1
+    while len(trains) < count:
+        longest = base[0]
+        trains.append(WaveTrain(0.01, longest.wavelength / n**2, direction=(37.0 * n) % 360.0, phase=float(n)))
+        n += 1
+    return Sea(tuple(trains))
+
+
+def _scaled_islands(islands, count: int):
+    """``count`` islands: the default's, then copies shifted sideways and farther out."""
+    out = list(islands)[:count]
+    j = 0
+    while len(out) < count:
+        src = islands[j % len(islands)]
+        k = j // len(islands) + 1
+        out.append(replace(src, x=src.x + 260.0 * k * (1 if j % 2 else -1), y=src.y + 900.0 * k,
+                           name=f"{src.name}-{k}"))
+        j += 1
+    return tuple(out)
+
+
+def _measure_scaling(width: int, height: int, repeats: int) -> dict:
+    """Vector-stage seconds against picture size, wave trains and islands (small repeats)."""
+    from .scene import Scene
+
+    base = Scene.default()
+    sizes = [s for s in SCALING_SIZES if s <= max(width, height)]
+    out = {"size": {"n": sizes, "seconds": [], "sea_samples": [], "island_samples": []},
+           "trains": {"n": list(SCALING_TRAINS), "seconds": []},
+           "islands": {"n": list(SCALING_ISLANDS), "seconds": []}, "size_for_counts": SCALING_SIZE}
+    from .heightfield import trace_direct
+
+    for n in sizes:
+        sc = base.with_size(n, n)
+        out["size"]["seconds"].append(_vector_stage_seconds(sc, repeats))
+        info: dict = {}
+        trace_direct(sc, 0.0, info=info)
+        out["size"]["sea_samples"].append(info["sea_samples"] * n)
+        out["size"]["island_samples"].append(info["island_samples"])
+    sc = base.with_size(SCALING_SIZE, SCALING_SIZE)
+    for n in SCALING_TRAINS:
+        out["trains"]["seconds"].append(_vector_stage_seconds(replace(sc, sea=_scaled_sea(sc.sea, n)), repeats))
+    for n in SCALING_ISLANDS:
+        out["islands"]["seconds"].append(
+            _vector_stage_seconds(replace(sc, islands=_scaled_islands(sc.islands, n)), repeats))
+    return {"scaling": out}
+
+
+def _measure_profile(width: int, height: int, repeats: int) -> dict:
+    """cProfile of ``repeats`` frames: the functions with the most time of their own."""
+    import cProfile
+    import pstats
+
+    from .scene import Scene
+
+    scene = Scene.default().with_size(width, height)
+    _frame_once(scene)
+    prof = cProfile.Profile()
+    prof.enable()
+    for _ in range(repeats):
+        _frame_once(scene)
+    prof.disable()
+    stats = pstats.Stats(prof).stats
+    total = sum(v[2] for v in stats.values())
+    rows = []
+    for (file, line, name), (_cc, _nc, tottime, cumtime, _callers) in stats.items():
+        rows.append({"function": _function_name(file, name), "own_s": tottime / repeats, "share": tottime / total})
+    rows.sort(key=lambda r: -r["own_s"])
+    return {"profile": rows[:15], "profile_total_s": total / repeats}
+
+
+def _function_name(file: str, name: str) -> str:
+    """A readable name for a cProfile entry: ``module.py:function``, or the NumPy method / built-in."""
+    import re
+
+    if file.startswith(("/", ".")):
+        return f"{Path(file).name}:{name}"
+    m = re.match(r"<method '(\w+)' of '([\w.]+)' objects>", name)
+    if m:
+        return f"{m.group(2)}.{m.group(1)}"
+    m = re.match(r"<built-in method ([\w.]+)>", name)
+    return m.group(1) if m else name
+
+
+MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
+                "scaling": _measure_scaling, "profile": _measure_profile}
 
 
 def _child(args) -> None:
     result = MEASUREMENTS[args.measure](args.width, args.height, args.repeats)
-    peak_kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    print(json.dumps({"times": result, "peak_rss_mib": peak_kib / 1024.0}))
+    from . import compiled
+
+    print(json.dumps({"times": result, **_peak(), "compiled": compiled.enabled()}))
 
 
-def measure(kind: str, width: int, height: int, repeats: int = REPEATS) -> dict:
-    """Run one measurement in a fresh Python process; returns its JSON result."""
+def _peak() -> dict:
+    """Peak resident memory of this process and of the largest of its children (the cycle's workers), MiB."""
+    return {"peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+            "peak_rss_children_mib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0}
+
+
+def measure(kind: str, width: int, height: int, repeats: int = REPEATS, numpy_only: bool = False) -> dict:
+    """Run one measurement in a fresh Python process; returns its JSON result.
+
+    ``numpy_only`` runs it with the compiled kernels off (``SUNSET_COMPILED=0``).
+    """
     cmd = [sys.executable, "-m", "sunset.bench", "--measure", kind, "--width", str(width),
            "--height", str(height), "--repeats", str(repeats)]
-    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    env = dict(os.environ)
+    if numpy_only:
+        env["SUNSET_COMPILED"] = "0"
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env).stdout
     return json.loads(out.strip().splitlines()[-1])
 
 
-def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle: bool = True) -> dict:
+def machine() -> dict:
+    """What the benchmark ran on: CPU, cores, Python and library versions, date."""
+    import numpy
+
+    cpu = platform.processor() or ""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    try:
+        import numba
+        numba_version = numba.__version__
+    except ImportError:
+        numba_version = None
+    return {"cpu": cpu, "cpus": os.cpu_count(), "platform": platform.platform(),
+            "python": platform.python_version(), "numpy": numpy.__version__, "numba": numba_version,
+            "date": datetime.date.today().isoformat()}
+
+
+def _row(what: str, stage: str, times, pixels: int, res: dict) -> dict:
+    return {"what": what, "stage": stage, "median_s": statistics.median(times), "runs_s": list(times),
+            "pixels": pixels, "peak_rss_mib": max(res["peak_rss_mib"], res.get("peak_rss_children_mib", 0.0))}
+
+
+def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle: bool = True, *,
+                  frame_sizes=FRAME_SIZES, cycle_size=CYCLE_SIZE, cycle_frames: int = CYCLE_FRAMES,
+                  numpy_reference: bool = True, scaling: bool = True, profile: bool = True) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
@@ -116,44 +298,64 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     log(f"brute-force reference at {brute_size}x{brute_size} ...")
     brute = measure("brute", brute_size, brute_size, max(3, repeats // 2 + 1))
     brute_per_px = statistics.median(brute["times"]["total"]) / (brute_size * brute_size)
-    rows.append({"what": f"brute-force ray caster {brute_size}x{brute_size}", "stage": "total",
-                 "median_s": statistics.median(brute["times"]["total"]), "pixels": brute_size * brute_size,
-                 "peak_rss_mib": brute["peak_rss_mib"]})
+    rows.append(_row(f"brute-force ray caster {brute_size}x{brute_size} (direct rays)", "total",
+                     brute["times"]["total"], brute_size * brute_size, brute))
 
-    for w, h in ((1020, 1023), (1024, 1024)):
+    compiled_on = None
+    for w, h in frame_sizes:
         log(f"Figure 6 frame at {w}x{h} ...")
         res = measure("frame", w, h, repeats)
+        compiled_on = res["compiled"]
         for stage, times in res["times"].items():
-            rows.append({"what": f"Figure 6 frame {w}x{h}", "stage": stage, "median_s": statistics.median(times),
-                         "runs_s": times, "pixels": w * h, "peak_rss_mib": res["peak_rss_mib"]})
+            rows.append(_row(f"Figure 6 frame {w}x{h}", stage, times, w * h, res))
+    if numpy_reference:
+        w, h = frame_sizes[-1]
+        log(f"Figure 6 frame at {w}x{h}, NumPy reference kernels only ...")
+        res = measure("frame", w, h, max(3, repeats // 2 + 1), numpy_only=True)
+        for stage, times in res["times"].items():
+            rows.append(_row(f"Figure 6 frame {w}x{h}, NumPy kernels", stage, times, w * h, res))
     if cycle:
-        log("64-frame wave cycle plus film at 1020x1023 ...")
-        res = measure("cycle", 1020, 1023, max(1, repeats // 2))
-        rows.append({"what": "64-frame cycle, coded and filmed, 1020x1023", "stage": "total",
-                     "median_s": statistics.median(res["times"]["total"]), "runs_s": res["times"]["total"],
-                     "pixels": 64 * 1020 * 1023, "peak_rss_mib": res["peak_rss_mib"]})
+        w, h = cycle_size
+        log(f"{cycle_frames}-frame wave cycle, coded and filmed, at {w}x{h} ...")
+        res = _measure_cycle_child(w, h, max(1, repeats // 2), cycle_frames)
+        for stage, times in res["times"].items():
+            rows.append(_row(f"{cycle_frames}-frame cycle {w}x{h}", stage, times, cycle_frames * w * h, res))
 
     for r in rows:
-        r["cray1_ratio"] = CRAY1_SECONDS_FIGURE6 / r["median_s"] if r["stage"] == "total" and "Figure 6" in r["what"] else None
+        figure6 = "Figure 6" in r["what"] and r["stage"] in ("total", "vector stage")
+        r["cray1_ratio"] = CRAY1_SECONDS_FIGURE6 / r["median_s"] if figure6 else None
         r["brute_ratio"] = brute_per_px * r["pixels"] / r["median_s"]
 
-    report = {
-        "machine": {"python": platform.python_version(), "platform": platform.platform(),
-                    "cpus": os.cpu_count()},
-        "repeats": repeats, "brute_seconds_per_pixel": brute_per_px, "rows": rows,
-    }
+    report = {"machine": machine(), "compiled": compiled_on, "repeats": repeats,
+              "cray1_seconds": CRAY1_SECONDS_FIGURE6, "brute_seconds_per_pixel": brute_per_px,
+              "brute_size": brute_size, "rows": rows}
+    if scaling:
+        log("scaling with picture size, wave trains and islands ...")
+        report.update(measure("scaling", max(SCALING_SIZES), max(SCALING_SIZES), 5)["times"])
+    if profile:
+        w, h = frame_sizes[-1]
+        log(f"profile of a {w}x{h} frame ...")
+        report.update(measure("profile", w, h, 3)["times"])
     print(format_table(rows))
     from .io import write_bytes
+
     write_bytes(out, (json.dumps(report, indent=2) + "\n").encode())
     return report
 
 
+def _measure_cycle_child(width, height, repeats, frames):
+    cmd = [sys.executable, "-m", "sunset.bench", "--measure", "cycle", "--width", str(width), "--height",
+           str(height), "--repeats", str(repeats), "--cycle-frames", str(frames)]
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
 def format_table(rows) -> str:
     """A plain-text table of the benchmark rows."""
-    lines = [f"{'measurement':46s} {'stage':14s} {'median s':>9s} {'× Cray-1':>9s} {'× brute':>9s} {'peak MiB':>9s}"]
+    lines = [f"{'measurement':48s} {'stage':16s} {'median s':>9s} {'× Cray-1':>9s} {'× brute':>9s} {'peak MiB':>9s}"]
     for r in rows:
         cray = f"{r['cray1_ratio']:9.1f}" if r.get("cray1_ratio") else f"{'':9s}"
-        lines.append(f"{r['what']:46s} {r['stage']:14s} {r['median_s']:9.3f} {cray} {r['brute_ratio']:9.1f} "
+        lines.append(f"{r['what']:48s} {r['stage']:16s} {r['median_s']:9.3f} {cray} {r['brute_ratio']:9.1f} "
                      f"{r['peak_rss_mib']:9.0f}")
     return "\n".join(lines)
 
@@ -167,9 +369,17 @@ def main(argv=None) -> int:
     p.add_argument("--measure", choices=list(MEASUREMENTS), help=argparse.SUPPRESS)
     p.add_argument("--width", type=int, help=argparse.SUPPRESS)
     p.add_argument("--height", type=int, help=argparse.SUPPRESS)
+    p.add_argument("--cycle-frames", type=int, default=CYCLE_FRAMES, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
+    if args.repeats < 1 or args.brute_size < 1:
+        print("sunset.bench: error: --repeats and --brute-size must be at least 1", file=sys.stderr)
+        return 2
     if args.measure:
-        _child(args)
+        if args.measure == "cycle":
+            result = _measure_cycle(args.width, args.height, args.repeats, args.cycle_frames)
+            print(json.dumps({"times": result, **_peak()}))
+        else:
+            _child(args)
         return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     run_benchmark(args.out, args.repeats, args.brute_size, cycle=not args.no_cycle)

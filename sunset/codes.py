@@ -63,6 +63,7 @@ import numpy as np
 
 from .constants import (CODES_BEACH, CODES_CLIFF, CODES_HALO, CODES_HILL, CODES_SKY, CODES_TRACK, HALO_FACTOR,
                         N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY, TRACK_DITHER)
+from . import compiled
 from .errors import SunsetError
 from .frame import Frame
 from .sun import Sun
@@ -338,6 +339,13 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
     codes = np.empty(shape, np.uint8)
     surf = np.asarray(frame.final_surface)
     part = np.asarray(frame.final_part)
+    if compiled.enabled():  # the same rules, one compiled pass over the pixels (tests: both paths agree)
+        bad = compiled.encode_pixels(codes, frame, u, v, sun, cmap, (PART_HILL, PART_CLIFF, PART_BEACH),
+                                     TRACK_DITHER * math.sin(sun.delta), math.sin(sun.delta),
+                                     math.sin(HALO_FACTOR * sun.delta), track_elevation_max(sun))
+        if bad >= 0:
+            raise SunsetError(f"frame.final_part must be 1 (beach), 2 (cliff) or 3 (hill) on islands, got {bad}")
+        return codes
 
     # islands: the sun-plane angle of the final normal
     island = surf >= 1

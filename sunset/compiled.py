@@ -10,20 +10,26 @@ one element at a time with everything in registers:
 
 * :func:`scan_columns` is the paper's scan-line loop
   (:func:`sunset.heightfield.scan_line_reference`) with the arithmetic of the
-  vectorized :func:`sunset.heightfield.scan_convert` (same float32 pixel
-  units, same interpolation), over many scan lines of ragged length.
+  vectorized :func:`sunset.heightfield.scan_convert` (same pixel units in the
+  profile's precision, same interpolation), over many scan lines of ragged
+  length; :func:`scan_merge` adds the sea's far tail and the per-scan-line
+  depth buffer of :func:`sunset.heightfield.trace_direct`.
+* :func:`expand_intervals` cuts an island's probe intervals into its samples.
+* :func:`assemble` and :func:`put_unit_normals` build the direct frame's
+  geometry in one pass, with the compressed lists of sea and island pixels.
 * :func:`reflect_sea` gathers the sea pixels of a frame and reflects their
   rays (R = D − 2(D·N)N, :func:`sunset.pierce.reflect`).
 * :func:`crest_hits` pierces each ray's crest cylinder
-  (:func:`sunset.pierce.crest_cylinder`, :func:`sunset.pierce.cylinder_coefficients`,
-  :func:`sunset.pierce.quadratic_interval`).
-* :func:`pierce_islands` is :func:`sunset.pierce.pierce_islands` with its
-  bounding test, the three quadratics of every island and the nearest-hit
-  selection fused into one pass.
+  (:func:`sunset.pierce.crest_candidates`, :func:`sunset.pierce.crest_cylinder`,
+  :func:`sunset.pierce.cylinder_coefficients`, :func:`sunset.pierce.quadratic_interval`).
+* :func:`pierce_islands` is :func:`sunset.pierce.pierce_islands`: the
+  bounding test compresses each island's candidates, then its three
+  quadratics and the nearest-hit selection, in two compiled passes.
+* :func:`write_back` scatters the traced rays into the frame.
 
-Everything else (the sea's profile with its SIMD cosines, normals on the
-compressed subsets, codes) stays NumPy. The tests check that both paths give
-the same frames and the same codes.
+Everything else (the sea's profile and normals with NumPy's SIMD cosines,
+the normals on compressed subsets, the codes) stays NumPy. The tests check
+that both paths give the same frames and the same codes.
 
 The compiled path is used when Numba can be imported and the environment
 variable ``SUNSET_COMPILED`` is not ``0``; :func:`use_compiled` switches it
@@ -88,8 +94,10 @@ def _scan_row(u, us, g, gs, n, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf
     i = 0
     while i < n and k < K:
         gi = g[gs + i]
-        if gi > prof:  # np.maximum.accumulate (NaN is not expected)
-            prof = gi
+        if not gi > prof:  # np.maximum.accumulate: the profile did not rise, no pixel is reached here
+            i += 1
+            continue
+        prof = gi
         # the pixel units of scan_convert: ⌈(M_i − ζ0)/Δζ⌉ in g's dtype, clipped to 0..K
         r = np.ceil((prof - zeta0_t) * inv_dzeta_t)
         if r < zero_t:
@@ -300,23 +308,53 @@ def _quadratic(a, b, c):
 
 
 @_jit
-def _crest_hits(q, r, l, m, omega_t, phase, k, amps, amp_sum, kappa, out):
+def _crest_phase(q, r, l, m, omega_t, phase, k, lift, half, psi, cand):
     two_pi = 2.0 * math.pi
+    n = 0
     for j in range(q.shape[0]):
-        qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
-        rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
-        theta = l * qx + m * qy - omega_t + phase
+        theta = l * q[j, 0] + m * q[j, 1] - omega_t + phase
+        ps = theta % two_pi
+        psi[j] = ps
+        rate = l * r[j, 0] + m * r[j, 1]
+        rz = r[j, 2]
+        keep = True
+        if rz > 0.0:
+            # the bounding test of sunset.pierce.crest_candidates
+            if rate >= 0.0:
+                ahead = two_pi - ps
+            elif ps > 0.0:
+                ahead = -ps
+            else:
+                ahead = -two_pi
+            u0 = -ahead / k
+            w = rate / k
+            u_end = u0 + w * (lift / rz)
+            if (u0 > half and u_end > half) or (u0 < -half and u_end < -half):
+                keep = False
+        if keep:
+            cand[n] = j
+            n += 1
+    return n
+
+
+@_jit
+def _crest_hits(q, r, cand, psi, cos_psi, l, m, k, amps, amp_sum, kappa, out):
+    two_pi = 2.0 * math.pi
+    for j in range(cand.shape[0]):
+        i = cand[j]
+        qz = q[i, 2]
+        rx, ry, rz = r[i, 0], r[i, 1], r[i, 2]
         rate = l * rx + m * ry
-        psi = theta % two_pi
+        ps = psi[j]
         if rate >= 0.0:
-            ahead = two_pi - psi
-        elif psi > 0.0:
-            ahead = -psi
+            ahead = two_pi - ps
+        elif ps > 0.0:
+            ahead = -ps
         else:
             ahead = -two_pi
         u0 = -ahead / k
         # Σ a_n cos nθ by the Chebyshev recurrence (sunset.pierce.harmonic_sum)
-        c1 = math.cos(theta)
+        c1 = cos_psi[j]
         elev = amps[0] * c1
         t_prev = 1.0
         t_cur = c1
@@ -331,22 +369,35 @@ def _crest_hits(q, r, l, m, omega_t, phase, k, amps, amp_sum, kappa, out):
         b = -kappa * u0 * w - rz
         c = top - 0.5 * kappa * u0 * u0 - qz
         t_in, _, meets = _quadratic(a, b, c)
-        out[j] = t_in if (meets and t_in > 0.0) else np.inf
+        out[i] = t_in if (meets and t_in > 0.0) else np.inf
 
 
 def crest_hits(train, t: float, q, r) -> np.ndarray:
     """Distance along each ray to its crest cylinder, +inf where it clears the crest.
 
     :func:`sunset.pierce.first_entry` of the cylinder of
-    :func:`sunset.pierce.crest_cylinder`, for rays (N, 3).
+    :func:`sunset.pierce.crest_cylinder`, for rays (N, 3), after the bounding
+    test of :func:`sunset.pierce.crest_candidates`. A first pass reduces the
+    phase to ψ = θ mod 2π and compresses the candidates; NumPy takes cos ψ on
+    them (the reference's cosine); a second pass does the rest.
     """
-    from .pierce import crest_curvature
+    from .pierce import crest_curvature, crest_lift
 
     l, m = train.wave_vector
     amps = np.ascontiguousarray(train.harmonic_amplitudes(), dtype=np.float64)
-    out = np.empty(len(q))
-    _crest_hits(np.ascontiguousarray(q), np.ascontiguousarray(r), float(l), float(m), float(train.omega * t),
-                float(train.phase), float(train.k), amps, float(np.sum(amps)), float(crest_curvature(train)), out)
+    q = np.ascontiguousarray(q, dtype=np.float64)
+    r = np.ascontiguousarray(r, dtype=np.float64)
+    kappa = float(crest_curvature(train))
+    lift = crest_lift(train)
+    psi = np.empty(len(q))
+    cand = np.empty(len(q), np.intp)
+    n = _crest_phase(q, r, float(l), float(m), float(train.omega * t), float(train.phase), float(train.k), lift,
+                     math.sqrt(2.0 * lift / kappa), psi, cand)
+    cand = cand[:n]
+    psi = np.take(psi, cand)
+    out = np.full(len(q), np.inf)
+    _crest_hits(q, r, cand, psi, np.cos(psi), float(l), float(m), float(train.k), amps, float(np.sum(amps)), kappa,
+                out)
     return out
 
 
@@ -376,73 +427,91 @@ def island_table(islands, eye_height: float, z0: float) -> np.ndarray:
 
 
 @_jit
-def _pierce_islands(q, r, table, h, part_beach, part_cliff, part_hill, best, which, part):
+def _island_candidates(q, r, X, Y, rho, top_h, cand):
+    """The bounding test of sunset.pierce.island_candidates for one island; candidates' indices into cand."""
+    n = 0
+    rr = rho * rho
     for j in range(q.shape[0]):
         qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
         rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
-        best_t = np.inf
-        best_k = -1
-        best_p = 0
-        for i in range(table.shape[0]):
-            X, Y = table[i, 0], table[i, 1]
-            rho, top_h = table[i, 12], table[i, 13]
-            # the bounding test (only skips rays that cannot hit)
-            if rz >= 0.0:
-                cx = X - qx
-                cy = Y - qy
-                horiz = math.sqrt(rx * rx + ry * ry)
-                along = rx * cx + ry * cy
-                near_line = abs(rx * cy - ry * cx) <= rho * horiz and along > -rho * horiz
-                low_enough = (along - rho * horiz) * rz <= (top_h - qz) * horiz * horiz
-                if not ((near_line and low_enough) or (cx * cx + cy * cy <= rho * rho)):
-                    continue
-            e, f, g = table[i, 2], table[i, 3], table[i, 4]
-            c_top, ct, kf = table[i, 5], table[i, 6], table[i, 7]
-            u = qx - X
-            v = qy - Y
-            A = e * rx * rx + f * rx * ry + g * ry * ry
-            B = 2.0 * e * u * rx + f * (u * ry + v * rx) + 2.0 * g * v * ry
-            C = e * u * u + f * u * v + g * v * v
-            c_in, c_out, c_meets = _quadratic(-A, -B - rz, (c_top - h) - C - qz)
-            h_in, h_out, h_meets = _quadratic(-kf * A, -kf * B - rz, (ct - h) + kf * (c_top - ct - C) - qz)
-            # np.maximum / np.minimum propagate NaN
-            if c_in != c_in or h_in != h_in:
-                up_in = np.nan
-            else:
-                up_in = max(c_in, h_in)
-            if c_out != c_out or h_out != h_out:
-                up_out = np.nan
-            else:
-                up_out = min(c_out, h_out)
-            up_meets = c_meets and h_meets and up_in <= up_out
-            be, bf, bg, b_top = table[i, 8], table[i, 9], table[i, 10], table[i, 11]
-            a_b = -(be * rx * rx + bf * rx * ry + bg * ry * ry)
-            b_b = -(2.0 * be * u * rx + bf * (u * ry + v * rx) + 2.0 * bg * v * ry) - rz
-            c_b = (b_top - h) - (be * u * u + bf * u * v + bg * v * v) - qz
-            b_in, b_out, b_meets = _quadratic(a_b, b_b, c_b)
-            beach_t = np.inf
-            if b_meets and b_in > 0.0 and not (up_meets and up_in < b_in and b_in <= up_out):
-                beach_t = b_in
-            upper_t = np.inf
-            if up_meets and up_in > 0.0 and not (b_meets and b_in < up_in and up_in <= b_out):
-                upper_t = up_in
-            if upper_t <= beach_t:
-                t = upper_t
-                p = part_hill if h_in > c_in else part_cliff
-            else:
-                t = beach_t
-                p = part_beach
-            if t < best_t:
-                best_t = t
-                best_k = i + 1
-                best_p = p
-        best[j] = best_t
-        which[j] = best_k
-        part[j] = best_p
+        cx = X - qx
+        cy = Y - qy
+        horiz = math.sqrt(rx * rx + ry * ry)
+        along = rx * cx + ry * cy
+        near_line = (abs(rx * cy - ry * cx) <= rho * horiz) & (along > -rho * horiz)
+        low_enough = (along - rho * horiz) * rz <= (top_h - qz) * horiz * horiz
+        keep = (rz < 0.0) | (near_line & low_enough) | (cx * cx + cy * cy <= rr)
+        cand[n] = j
+        n += keep  # branch-free compress
+    return n
+
+
+@_jit
+def _pierce_island(q, r, cand, row, h, k, part_beach, part_cliff, part_hill, best, which, part):
+    """sunset.pierce.pierce_island for the candidate rays of one island, keeping the nearest hit so far."""
+    X, Y = row[0], row[1]
+    e, f, g = row[2], row[3], row[4]
+    c_top, ct, kf = row[5], row[6], row[7]
+    be, bf, bg, b_top = row[8], row[9], row[10], row[11]
+    for jj in range(cand.shape[0]):
+        j = cand[jj]
+        qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
+        rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
+        u = qx - X
+        v = qy - Y
+        A = e * rx * rx + f * rx * ry + g * ry * ry
+        B = 2.0 * e * u * rx + f * (u * ry + v * rx) + 2.0 * g * v * ry
+        C = e * u * u + f * u * v + g * v * v
+        c_in, c_out, c_meets = _quadratic(-A, -B - rz, (c_top - h) - C - qz)
+        h_in, h_out, h_meets = _quadratic(-kf * A, -kf * B - rz, (ct - h) + kf * (c_top - ct - C) - qz)
+        # np.maximum / np.minimum propagate NaN
+        if c_in != c_in or h_in != h_in:
+            up_in = np.nan
+        else:
+            up_in = max(c_in, h_in)
+        if c_out != c_out or h_out != h_out:
+            up_out = np.nan
+        else:
+            up_out = min(c_out, h_out)
+        up_meets = c_meets and h_meets and up_in <= up_out
+        a_b = -(be * rx * rx + bf * rx * ry + bg * ry * ry)
+        b_b = -(2.0 * be * u * rx + bf * (u * ry + v * rx) + 2.0 * bg * v * ry) - rz
+        c_b = (b_top - h) - (be * u * u + bf * u * v + bg * v * v) - qz
+        b_in, b_out, b_meets = _quadratic(a_b, b_b, c_b)
+        beach_t = np.inf
+        if b_meets and b_in > 0.0 and not (up_meets and up_in < b_in and b_in <= up_out):
+            beach_t = b_in
+        upper_t = np.inf
+        if up_meets and up_in > 0.0 and not (b_meets and b_in < up_in and up_in <= b_out):
+            upper_t = up_in
+        if upper_t <= beach_t:
+            t = upper_t
+            p = part_hill if h_in > c_in else part_cliff
+        else:
+            t = beach_t
+            p = part_beach
+        if t < best[j]:
+            best[j] = t
+            which[j] = k
+            part[j] = p
+
+
+@_jit
+def _lowest_upward_origin(q, r):
+    z0 = np.inf
+    for j in range(q.shape[0]):
+        if r[j, 2] >= 0.0 and q[j, 2] < z0:
+            z0 = q[j, 2]
+    return z0
 
 
 def pierce_islands(islands, eye_height: float, q, r):
-    """:func:`sunset.pierce.pierce_islands` fused into one pass: (t, which, part) for rays (N, 3)."""
+    """:func:`sunset.pierce.pierce_islands` compiled: (t, which, part) for rays (N, 3).
+
+    Island by island, as the reference: a branch-free pass of the bounding
+    test compresses the candidates, and a second pass solves the three
+    quadratics for them and keeps the nearest hit.
+    """
     from .constants import PART_BEACH, PART_CLIFF, PART_HILL
 
     q = np.ascontiguousarray(q, dtype=np.float64)
@@ -451,17 +520,25 @@ def pierce_islands(islands, eye_height: float, q, r):
     best = np.empty(n)
     which = np.empty(n, np.int8)
     part = np.empty(n, np.int8)
-    up = r[:, 2] >= 0.0
-    z0 = float(np.min(q[up, 2])) if up.any() else 0.0
-    table = island_table(islands, eye_height, z0)
-    _pierce_islands(q, r, table, float(eye_height), PART_BEACH, PART_CLIFF, PART_HILL, best, which, part)
+    z0 = _lowest_upward_origin(q, r)
+    table = island_table(islands, eye_height, z0 if z0 < np.inf else 0.0)
+    best.fill(np.inf)
+    which.fill(-1)
+    part.fill(0)
+    cand = np.empty(n, np.intp)
+    for i, row in enumerate(table):
+        m = _island_candidates(q, r, row[0], row[1], row[12], row[13], cand)
+        _pierce_island(q, r, cand[:m], row, float(eye_height), i + 1, PART_BEACH, PART_CLIFF, PART_HILL, best,
+                       which, part)
     return best, which, part
 
 
 # --------------------------------------------------------------------------- the direct frame
 @_jit
-def _assemble(best_u, best_surf, s_all, zeta, sky_code, sea_code, surf, y, direction, point, distance, normal):
+def _assemble(best_u, best_surf, s_all, zeta, sky_code, sea_code, start, surf, direction, point, distance, normal,
+              hit_flat, hit_s, hit_y):
     W, H = best_u.shape
+    pos = start.copy()
     for row in range(H):
         k = H - 1 - row
         z = zeta[k]
@@ -477,10 +554,15 @@ def _assemble(best_u, best_surf, s_all, zeta, sky_code, sea_code, surf, y, direc
             if sc != sky_code:
                 yv = 1.0 / best_u[c, k]
                 dist = yv * length
+                # the compressed list of the pixels of surface sc, in row-major order
+                j = pos[sc - sea_code]
+                pos[sc - sea_code] = j + 1
+                hit_flat[j] = row * W + c
+                hit_s[j] = s
+                hit_y[j] = yv
             else:
                 yv = np.nan
                 dist = np.inf
-            y[row, c] = yv
             point[row, c, 0] = s * yv
             point[row, c, 1] = yv
             point[row, c, 2] = z * yv
@@ -491,24 +573,36 @@ def _assemble(best_u, best_surf, s_all, zeta, sky_code, sea_code, surf, y, direc
                 normal[row, c, 2] = np.nan
 
 
-def assemble(best_u, best_surf, s_all, zeta, sky_code: int, sea_code: int):
+def assemble(best_u, best_surf, s_all, zeta, sky_code: int, sea_code: int, n_islands: int):
     """The geometry of :func:`sunset.heightfield._assemble` in one pass.
 
     From 1/yp and the winning surface per (scan line, pixel from the bottom):
-    ``surf`` (H, W) int8, ``y`` (H, W) float64 (NaN for sky), ``direction``,
-    ``point`` (H, W, 3) float32, ``distance`` (H, W) float32 and ``normal``
-    (H, W, 3) float32, NaN except on the sea (left for the caller to fill).
+    ``surf`` (H, W) int8, ``direction``, ``point`` (H, W, 3) float32,
+    ``distance`` (H, W) float32 and ``normal`` (H, W, 3) float32 (NaN except
+    on the sea, left for the caller to fill), and for surface ``sea_code + i``
+    (i = 0 the sea, i = k island k) the compressed list ``hits[i] = (flat
+    pixel index, s, y)`` in row-major order (``np.flatnonzero`` order).
     """
     W, H = best_u.shape
+    best_surf = np.ascontiguousarray(best_surf)
+    counts = np.bincount(best_surf.reshape(-1).view(np.uint8), minlength=256)
+    # int8 codes sea_code … sea_code + n_islands as uint8 bins (all >= 0)
+    per = counts[sea_code:sea_code + n_islands + 1].astype(np.int64)
+    start = np.concatenate([[0], np.cumsum(per)[:-1]]).astype(np.int64)
+    total = int(per.sum())
     surf = np.empty((H, W), np.int8)
-    y = np.empty((H, W))
     direction = np.empty((H, W, 3), np.float32)
     point = np.empty((H, W, 3), np.float32)
     distance = np.empty((H, W), np.float32)
     normal = np.empty((H, W, 3), np.float32)
-    _assemble(np.ascontiguousarray(best_u), np.ascontiguousarray(best_surf), np.ascontiguousarray(s_all, np.float64),
-              np.ascontiguousarray(zeta, np.float64), sky_code, sea_code, surf, y, direction, point, distance, normal)
-    return surf, y, direction, point, distance, normal
+    hit_flat = np.empty(total, np.intp)
+    hit_s = np.empty(total)
+    hit_y = np.empty(total)
+    _assemble(np.ascontiguousarray(best_u), best_surf, np.ascontiguousarray(s_all, np.float64),
+              np.ascontiguousarray(zeta, np.float64), sky_code, sea_code, start, surf, direction, point, distance,
+              normal, hit_flat, hit_s, hit_y)
+    hits = [(hit_flat[a:a + n], hit_s[a:a + n], hit_y[a:a + n]) for a, n in zip(start, per)]
+    return surf, direction, point, distance, normal, hits
 
 
 @_jit
@@ -549,12 +643,13 @@ def _write_back(flat, bounces, r, final, part, normal, f_bounces, f_ray, f_surfa
 def write_back(frame, flat, bounces, r, final, part, normal) -> None:
     """Scatter the traced sea pixels' final fields into the frame (rows ``flat`` of the flattened fields)."""
     fields = (frame.bounces, frame.ray, frame.final_surface, frame.final_part, frame.final_normal)
-    if not all(f.flags.c_contiguous for f in fields):  # reshape would copy: write through NumPy instead
-        frame.bounces.reshape(-1)[flat] = bounces
-        frame.ray.reshape(-1, 3)[flat] = r
-        frame.final_surface.reshape(-1)[flat] = final
-        frame.final_part.reshape(-1)[flat] = part
-        frame.final_normal.reshape(-1, 3)[flat] = normal
+    if not all(f.flags.c_contiguous for f in fields):  # reshape would copy: index by (row, column) instead
+        at = np.unravel_index(flat, frame.surface.shape)
+        frame.bounces[at] = bounces
+        frame.ray[at] = r
+        frame.final_surface[at] = final
+        frame.final_part[at] = part
+        frame.final_normal[at] = normal
         return
     _write_back(np.ascontiguousarray(flat, np.intp), bounces, np.ascontiguousarray(r), final, part,
                 np.ascontiguousarray(normal), frame.bounces.reshape(-1), frame.ray.reshape(-1, 3),
@@ -591,3 +686,76 @@ def expand_intervals(up, n, count, last_valid) -> np.ndarray:
     _expand_intervals(np.ascontiguousarray(up, np.float64), np.ascontiguousarray(n, np.int64),
                       np.ascontiguousarray(count, np.int64), np.ascontiguousarray(last_valid, np.int64), out)
     return out
+
+
+# --------------------------------------------------------------------------- codes
+@_jit
+def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, U, V, W, part_codes, island_start, island_size,
+                   sky_start, sky_size, track_start, track_size, halo_start, halo_size, dither, sin_d, sin_halo,
+                   e_max):
+    H, Wd = surf.shape
+    for y in range(H):
+        for x in range(Wd):
+            s = surf[y, x]
+            uu = u[y, x]
+            if s >= 1:
+                # ρ̂(N) (sunset.codes.rho_hat) and the island offset (sunset.codes.island_offsets)
+                n0 = np.float64(normal[y, x, 0])
+                n1 = np.float64(normal[y, x, 1])
+                n2 = np.float64(normal[y, x, 2])
+                a = n0 * U[0] + n1 * U[1] + n2 * U[2]
+                b = n0 * V[0] + n1 * V[1] + n2 * V[2]
+                r = math.hypot(a, b)
+                rho = -a / r if r > 1e-12 else 1.0
+                if rho < -1.0:
+                    rho = -1.0
+                elif rho > 1.0:
+                    rho = 1.0
+                rh = rho if b > 0 else 2.0 - rho
+                if rh >= 3.0:
+                    rh = rh - 4.0
+                p = part[y, x]
+                j = -1
+                for i in range(part_codes.shape[0]):
+                    if part_codes[i] == p:
+                        j = i
+                if j < 0:
+                    return p
+                size = island_size[j]
+                off = np.int64(np.floor((rh + 1.0) * (size / 4.0) + uu)) % size
+                codes[y, x] = island_start[j] + off
+            elif s == -1:
+                z = np.float64(ray[y, x, 2])
+                zc = min(max(z, 0.0), 1.0)
+                k = np.int64(np.floor(math.sqrt(zc) * sky_size + uu))
+                code = sky_start + min(max(k, 0), sky_size - 1)
+                if bounces[y, x] > 0:
+                    dot = np.float64(ray[y, x, 0]) * W[0] + np.float64(ray[y, x, 1]) * W[1] + z * W[2]
+                    wr = abs(dot) + (v[y, x] - 0.5) * dither
+                    if wr < sin_d:
+                        k = np.int64(np.floor(math.asin(zc) * (track_size / e_max) + uu))
+                        code = track_start + min(max(k, 0), track_size - 1)
+                    elif wr < sin_halo:
+                        k = np.int64(np.floor(math.asin(zc) * (halo_size / e_max) + uu))
+                        code = halo_start + min(max(k, 0), halo_size - 1)
+                codes[y, x] = code
+    return -1
+
+
+def encode_pixels(codes, frame, u, v, sun, cmap, part_ids, dither: float, sin_d: float, sin_halo: float,
+                  e_max: float):
+    """The codes of :func:`sunset.codes.encode` in one pass over the pixels, into ``codes`` (uint8, in place).
+
+    ``u`` and ``v`` are encode's dither arrays; ``part_ids`` the island parts
+    in the order of their code ranges. Returns -1, or the first unknown island
+    part met (the caller raises).
+    """
+    ranges = [cmap.for_part(p) for p in part_ids]
+    return int(_encode_pixels(
+        codes, np.ascontiguousarray(frame.final_surface), np.ascontiguousarray(frame.final_part),
+        np.ascontiguousarray(frame.final_normal), np.ascontiguousarray(frame.ray),
+        np.ascontiguousarray(frame.bounces), u, v, np.asarray(sun.U, float), np.asarray(sun.V, float),
+        np.asarray(sun.W, float), np.asarray(part_ids, np.int64), np.array([r.start for r in ranges], np.int64),
+        np.array([r.size for r in ranges], np.int64), cmap.sky.start, cmap.sky.size, cmap.track.start,
+        cmap.track.size, cmap.halo.start, cmap.halo.size, float(dither), float(sin_d), float(sin_halo),
+        float(e_max)))

@@ -64,8 +64,13 @@ def cycle_times(scene, frames: int) -> np.ndarray:
     return np.arange(frames, dtype=np.float64) * (float(period) / frames)
 
 
-def render_cycle(scene, frames: int, reflections: int = 2, seed: int = 0, progress: bool = True) -> Tape:
+def render_cycle(scene, frames: int, reflections: int = 2, seed: int = 0, progress: bool = True,
+                 workers: int | None = None) -> Tape:
     """Render and code one wave cycle: the vector stage, once per frame.
+
+    The frames are independent, so they are rendered by ``workers``
+    processes at once (:func:`sunset.render.code_frames`); the tape is
+    byte-identical to the one a single process makes.
 
     Parameters
     ----------
@@ -78,24 +83,21 @@ def render_cycle(scene, frames: int, reflections: int = 2, seed: int = 0, progre
         Dither seed, reset for every frame.
     progress : bool
         Show a progress bar on stderr.
+    workers : int, optional
+        Processes to use; default ``$SUNSET_WORKERS`` or the number of CPUs (at most 2).
 
     Returns
     -------
     Tape
         N frames of codes at t_i = i T/N.
     """
-    from .codes import encode
-    from .render import render
+    from .render import code_frames
 
     require_int_range("reflections", reflections, 0, 2)
     require_int_range("seed", seed, 0, 2**32 - 1)
     times = cycle_times(scene, frames)
-    cam = scene.camera
-    codes = np.empty((frames, cam.height, cam.width), np.uint8)
     with _bar(frames, "rendering the wave cycle", progress) as bar:
-        for i, t in enumerate(times):
-            codes[i] = encode(scene, render(scene, float(t), reflections), seed=seed)
-            bar.update(1)
+        codes = code_frames(scene, times, reflections, seed, workers=workers, on_frame=lambda i, c: bar.update(1))
     return Tape(scene=scene, codes=codes, times=times, reflections=reflections, seed=seed)
 
 

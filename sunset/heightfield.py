@@ -43,7 +43,16 @@ ellipse, on the sea's lattice in u refined by an integer factor m so that the
 island's own projected samples are about σ pixels apart as well (the island's
 steep faces project much more sparsely than the sea: the paper's m = 1 is
 kept as an option). Each surface gives a yp for every pixel, and the nearest
-(largest u) wins: the per-scan-line depth buffer.
+(largest u) wins: the per-scan-line depth buffer. An island's probe interval
+that lies, with its allowance and a pixel to spare, below the island's own
+profile nearer to the eye is hidden and is not refined (samples only where
+they can be seen).
+
+Speed. The functions here are the NumPy reference. When the compiled
+kernels are on (:mod:`sunset.compiled`), :func:`trace_direct` runs the scan
+conversion, the far tail and the depth buffer as one compiled loop per scan
+line, keeps the islands' samples compressed, and assembles the frame in one
+pass, with the same arithmetic: the frames are identical.
 """
 
 from __future__ import annotations
@@ -358,8 +367,12 @@ def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     fy = np.zeros(y.shape, dtype=_F32)
     th = np.empty(y.shape, dtype=_F32)
     tmp = np.empty(y.shape, dtype=_F32)
-    for l, m, b, c, amps in _sea_terms(sea, s, t):
-        np.multiply(b, y, out=th)
+    s32 = s.astype(_F32)
+    for l, m, _b, c, amps in _sea_terms(sea, s[:0], t):
+        # b = ℓ s + m per point, in float32 like the rest (one pass less than widening s)
+        np.multiply(s32, _F32(l), out=th)
+        th += _F32(m)
+        th *= y
         th += c
         sn = np.sin(th)
         # Σ_n n a_n sin nθ = sin θ · q(cos θ), q = p′ the derivative of Σ_n a_n T_n (sin nθ = sin θ U_(n−1), n U_(n−1) = T_n′)
@@ -668,27 +681,32 @@ def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:
     """
     cam = scene.camera
     W = cam.width
+    n_isl = len(scene.islands)
     if compiled.enabled():
-        surf, y, direction, point, distance, normal = compiled.assemble(best_u, best_surf, s_all, zeta, SKY, SEA)
+        surf, direction, point, distance, normal, hits = compiled.assemble(best_u, best_surf, s_all, zeta, SKY, SEA,
+                                                                           n_isl)
     else:
         surf, y, direction, point, distance, normal = _assemble_geometry(best_u, best_surf, s_all, zeta)
+        flat_surf = surf.reshape(-1)
+        flat_y = y.reshape(-1)
+        hits = []
+        for k in range(n_isl + 1):
+            idx = np.flatnonzero(flat_surf == SEA + k)
+            hits.append((idx, s_all[idx % W], flat_y[idx]))
     part = np.full(surf.shape, PART_NONE, dtype=np.int8)
-    flat_surf = surf.reshape(-1)
-    flat_y = y.reshape(-1)
     # the sea: the gradient in the b_j, c_j form, on the sea pixels only
-    idx = np.flatnonzero(flat_surf == SEA)
+    idx, s_hit, y_hit = hits[0]
     if len(idx):
-        fx, fy = sea_gradient_on_scanlines(scene.sea, s_all[idx % W], flat_y[idx], t)
+        fx, fy = sea_gradient_on_scanlines(scene.sea, s_hit, y_hit, t)
         if compiled.enabled():
             compiled.put_unit_normals(normal, idx, fx, fy)
         else:
             normal.reshape(-1, 3)[idx] = _unit_normal(fx, fy)
     for k, island in enumerate(scene.islands, start=1):
-        idx = np.flatnonzero(flat_surf == k)
+        idx, s_hit, yk = hits[k]
         if not len(idx):
             continue
-        yk = flat_y[idx]
-        _, prt, gx, gy = island.surface((s_all[idx % W] * yk).astype(_F32), yk.astype(_F32))
+        _, prt, gx, gy = island.surface((s_hit * yk).astype(_F32), yk.astype(_F32))
         part.reshape(-1)[idx] = prt
         normal.reshape(-1, 3)[idx] = _unit_normal(gx.astype(_F32), gy.astype(_F32))
     return Frame(t=t, reflections=0, direction=direction, surface=surf, part=part, distance=distance,

@@ -47,6 +47,13 @@ crossing from outside to inside the solid at t > 0. Since the solid is convex,
 a ray that starts inside (c > 0, so t_in < 0 < t_out) leaves it and never comes
 back: it does not hit that solid. That is exactly what the paper's "t < 0"
 test does, since the smaller root is then negative.
+
+Bounding tests and the compiled path
+------------------------------------
+:func:`island_candidates` and :func:`crest_candidates` only skip rays that
+cannot hit, before the quadratics. :func:`trace_reflections` uses the
+compiled twins of these loops (:mod:`sunset.compiled`) when they are on; they
+do the same operations in the same order and give the same frame.
 """
 
 from __future__ import annotations
@@ -68,7 +75,8 @@ __all__ = [
     "reflect", "paraboloid_coefficients", "quadratic_interval", "first_entry", "pierce_paraboloid",
     "island_intervals", "pierce_island", "pierce_islands", "island_candidates", "island_gradient", "island_normal",
     "largest_train", "crest_curvature", "CrestCylinder", "crest_cylinder", "cylinder_coefficients",
-    "secondary_reflections", "gather", "scatter", "trace_reflections", "harmonic_sum",
+    "secondary_reflections", "gather", "scatter", "trace_reflections", "harmonic_sum", "crest_candidates",
+    "crest_lift",
 ]
 
 
@@ -436,6 +444,52 @@ def harmonic_sum(amps, c):
     return out
 
 
+def _crest_ahead(train: WaveTrain, t: float, q, r):
+    """(ψ = θ mod 2π at the origin, the rate ℓR_x + mR_y of θ along the ray, u₀) for :func:`crest_cylinder`."""
+    k = train.k
+    l, m = train.wave_vector
+    theta = l * q[..., 0] + m * q[..., 1] - train.omega * t + train.phase
+    rate = l * r[..., 0] + m * r[..., 1]
+    psi = np.mod(theta, 2.0 * math.pi)
+    ahead = np.where(rate >= 0.0, 2.0 * math.pi - psi, np.where(psi > 0.0, -psi, -2.0 * math.pi))
+    return psi, rate, -ahead / k
+
+
+def crest_lift(train: WaveTrain) -> float:
+    """A bound on how far a crest cylinder's top stands above its ray's origin, metres.
+
+    top − Q_z = Σ a_n − Σ a_n cos nθ(Q) <= 2 Σ a_n (every a_n >= 0), with a
+    little to spare for rounding.
+    """
+    return 2.0 * float(np.sum(train.harmonic_amplitudes())) * (1.0 + 1e-6) + 1e-9
+
+
+def crest_candidates(train: WaveTrain, t: float, q, r) -> np.ndarray:
+    """Rays that may meet their crest cylinder: a bounding test before the cosines and the quadratic.
+
+    Along the ray, F(t) = top − κu(t)²/2 − Q_z − R_z t with u(t) = u₀ + w t
+    (:func:`cylinder_coefficients`), and top − Q_z <= L = :func:`crest_lift`.
+    A ray heading up (R_z > 0) is above the cylinder for t > L/R_z, and
+    within that reach it can only be inside where κu²/2 <= L, i.e.
+    |u| <= √(2L/κ). When u stays beyond that half-width on one side over the
+    whole reach, the ray clears the crest: F < 0 for every t > 0. Rays heading
+    down or level are always candidates. Like :func:`island_candidates`, the
+    test only skips work.
+    """
+    q = np.asarray(q, dtype=float)
+    r = np.asarray(r, dtype=float)
+    _, rate, u0 = _crest_ahead(train, t, q, r)
+    w = rate / train.k
+    lift = crest_lift(train)
+    half = math.sqrt(2.0 * lift / crest_curvature(train))
+    rz = r[..., 2]
+    up = rz > 0.0
+    reach = np.where(up, lift / np.where(up, rz, 1.0), 0.0)
+    u_end = u0 + w * reach
+    clear = up & (((u0 > half) & (u_end > half)) | ((u0 < -half) & (u_end < -half)))
+    return ~clear
+
+
 def crest_cylinder(train: WaveTrain, t: float, q, r, elevation=None) -> CrestCylinder:
     """The parabolic cylinder tangent to the first crest of ``train`` ahead of each ray.
 
@@ -476,14 +530,10 @@ def crest_cylinder(train: WaveTrain, t: float, q, r, elevation=None) -> CrestCyl
     r = np.asarray(r, dtype=float)
     k = train.k
     l, m = train.wave_vector
-    theta = l * q[..., 0] + m * q[..., 1] - train.omega * t + train.phase
-    rate = l * r[..., 0] + m * r[..., 1]
-    psi = np.mod(theta, 2.0 * math.pi)
-    ahead = np.where(rate >= 0.0, 2.0 * math.pi - psi, np.where(psi > 0.0, -psi, -2.0 * math.pi))
-    u0 = -ahead / k
+    psi, rate, u0 = _crest_ahead(train, t, q, r)
     amps = train.harmonic_amplitudes()
     if elevation is None:
-        elevation = harmonic_sum(amps, np.cos(theta))
+        elevation = harmonic_sum(amps, np.cos(psi))  # cos θ = cos ψ, cheaper on the reduced angle
     top = q[..., 2] + float(np.sum(amps)) - elevation
     kappa = crest_curvature(train)
     cl, cm = l / k, m / k
@@ -513,7 +563,8 @@ def cylinder_coefficients(cyl: CrestCylinder, q, r):
 def secondary_reflections(sea: Sea, t: float, q, r):
     """Second reflections off the crest ahead (Figure 6), for rays (N, 3).
 
-    Pierce each ray's crest cylinder; the rays that hit (d >= 0, t > 0) are
+    Pierce each ray's crest cylinder (the rays that :func:`crest_candidates`
+    keeps, gathered); the rays that hit (d >= 0, t > 0) are
     gathered into contiguous arrays, reflected again off the true wave normal
     (:meth:`Sea.normal`) at the piercing point's (x, y), and returned with
     their indices for scattering back.
@@ -532,10 +583,12 @@ def secondary_reflections(sea: Sea, t: float, q, r):
     train = largest_train(sea)
     if train is None or q.shape[0] == 0:
         return np.zeros(0, np.intp), np.zeros((0, 3)), np.zeros((0, 3))
-    cyl = crest_cylinder(train, t, q, r)
-    t_in, _, meets = quadratic_interval(*cylinder_coefficients(cyl, q, r))
+    cand, (qc, rc) = gather(crest_candidates(train, t, q, r), q, r)
+    cyl = crest_cylinder(train, t, qc, rc)
+    t_in, _, meets = quadratic_interval(*cylinder_coefficients(cyl, qc, rc))
     hit = first_entry(t_in, meets)
-    idx, (q2, r2, t2) = gather(np.isfinite(hit), q, r, hit)
+    sel, (q2, r2, t2) = gather(np.isfinite(hit), qc, rc, hit)
+    idx = cand[sel]
     point = q2 + t2[:, None] * r2
     normal = sea.normal(point[:, 0], point[:, 1], t)
     return idx, point, reflect(r2, normal)
@@ -646,11 +699,13 @@ def _trace_reflections_compiled(scene, frame: Frame, reflections: int) -> Frame:
     if reflections >= 1 and scene.islands:
         dist, final, part = compiled.pierce_islands(scene.islands, h, q, r)
         normal = np.full((len(q), 3), np.nan)
+        # compress once to the rays that hit an island, then split by island
+        any_idx, (qa, ra, ta, pa, fa) = gather(final > 0, q, r, dist, part, final)
         for k, island in enumerate(scene.islands, start=1):
-            idx, (qk, rk, tk, pk) = gather(final == k, q, r, dist, part)
-            if len(idx):
+            sel, (qk, rk, tk, pk) = gather(fa == k, qa, ra, ta, pa)
+            if len(sel):
                 hit = qk + tk[:, None] * rk
-                scatter(idx, island_normal(island, hit[:, 0], hit[:, 1], pk), normal)
+                scatter(any_idx[sel], island_normal(island, hit[:, 0], hit[:, 1], pk), normal)
     if normal is None:
         normal = np.full((len(q), 3), np.nan)
     compiled.write_back(frame, flat, bounces, r, final, part, normal)

@@ -125,3 +125,34 @@ def test_determinism():
 def test_bad_render_arguments(kw):
     with pytest.raises(SunsetError):
         render(Scene.default().with_size(8, 8), **{"t": 0.0, "reflections": 2, **kw})
+
+
+# -- many frames over both cores (render.code_frames, film.render_cycle) ----------------------
+
+def test_frames_over_two_processes_are_byte_identical_to_one():
+    from sunset.film import render_cycle
+    from sunset.render import code_frame, code_frames
+
+    scene = Scene.default().with_size(40, 32)
+    times = [0.0, 0.7, 1.9, 3.3, 4.1]
+    serial = code_frames(scene, times, 2, seed=5, workers=1)
+    seen = []
+    parallel = code_frames(scene, times, 2, seed=5, workers=2, on_frame=lambda i, c: seen.append(i))
+    assert serial.dtype == np.uint8 and serial.shape == (5, 32, 40)
+    assert serial.tobytes() == parallel.tobytes()
+    assert seen == list(range(5))  # in order, one call per frame
+    # each frame is the single-frame vector stage
+    assert np.array_equal(serial[3], code_frame(scene, 3.3, 2, 5))
+    a = render_cycle(scene, 4, seed=1, progress=False, workers=1)
+    b = render_cycle(scene, 4, seed=1, progress=True, workers=2)
+    assert a.codes.tobytes() == b.codes.tobytes() and np.array_equal(a.times, b.times)
+
+
+def test_frame_workers():
+    from sunset.render import frame_workers
+
+    assert frame_workers(4, 3) == 3
+    assert frame_workers(1, 10) == 1
+    assert 1 <= frame_workers(None, 10) <= 2
+    with pytest.raises(SunsetError, match="workers"):
+        frame_workers(0, 5)

@@ -1,0 +1,113 @@
+"""The benchmark harness (sunset/bench.py) on tiny pictures: what it writes, not how fast anything is.
+
+No timing is asserted: only that every measurement the issue asks for is
+there, that the stages add up to the totals they split, and that the ratios
+are the ones the table says they are.
+"""
+
+import json
+import statistics
+
+import numpy as np
+import pytest
+
+from sunset import bench
+from sunset.constants import CRAY1_SECONDS_FIGURE6
+from sunset.scene import Scene
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench") / "bench.json"
+    rep = bench.run_benchmark(out, repeats=1, brute_size=12, frame_sizes=((36, 30),), cycle_size=(24, 20),
+                              cycle_frames=2, scaling=False, profile=True)
+    return out, rep
+
+
+def test_json_holds_every_measurement(report):
+    out, rep = report
+    data = json.loads(out.read_text())
+    assert data["rows"] == json.loads(json.dumps(rep["rows"]))
+    whats = {r["what"] for r in data["rows"]}
+    assert any(w.startswith("brute-force") for w in whats)
+    assert "Figure 6 frame 36x30" in whats
+    assert "Figure 6 frame 36x30, NumPy kernels" in whats
+    assert "2-frame cycle 24x20" in whats
+    frame = {r["stage"]: r for r in data["rows"] if r["what"] == "Figure 6 frame 36x30"}
+    assert set(bench.STAGES) | {"vector stage", "total"} == set(frame)
+    cycle = {r["stage"] for r in data["rows"] if r["what"] == "2-frame cycle 24x20"}
+    assert cycle == {"coded", "filmed", "total"}
+    for key in ("cpu", "cpus", "python", "numpy", "numba", "date"):
+        assert key in data["machine"]
+    assert data["compiled"] is True
+    assert data["profile"] and all(0 <= p["share"] <= 1 for p in data["profile"])
+
+
+def test_stages_add_up_and_ratios_follow(report):
+    _, rep = report
+    rows = [r for r in rep["rows"] if r["what"] == "Figure 6 frame 36x30"]
+    by = {r["stage"]: r for r in rows}
+    runs = len(by["total"]["runs_s"])
+    for i in range(runs):
+        stages = sum(by[s]["runs_s"][i] for s in bench.STAGES)
+        assert stages == pytest.approx(by["total"]["runs_s"][i], rel=1e-9)
+        vector = sum(by[s]["runs_s"][i] for s in bench.STAGES[:-1])
+        assert vector == pytest.approx(by["vector stage"]["runs_s"][i], rel=1e-9)
+    per_px = rep["brute_seconds_per_pixel"]
+    for r in rep["rows"]:
+        assert r["median_s"] == statistics.median(r["runs_s"])
+        assert r["brute_ratio"] == pytest.approx(per_px * r["pixels"] / r["median_s"])
+        assert r["peak_rss_mib"] > 0
+    assert by["total"]["cray1_ratio"] == pytest.approx(CRAY1_SECONDS_FIGURE6 / by["total"]["median_s"])
+    assert by["codes"]["cray1_ratio"] is None
+
+
+def test_table_has_a_line_per_row(report):
+    _, rep = report
+    table = bench.format_table(rep["rows"])
+    lines = table.splitlines()
+    assert len(lines) == len(rep["rows"]) + 1
+    assert "× Cray-1" in lines[0] and "× brute" in lines[0] and "peak MiB" in lines[0]
+    assert any("film recorder" in line for line in lines)
+
+
+def test_scaling_study_on_tiny_pictures(monkeypatch):
+    monkeypatch.setattr(bench, "SCALING_SIZES", (24, 40))
+    monkeypatch.setattr(bench, "SCALING_TRAINS", (1, 5))
+    monkeypatch.setattr(bench, "SCALING_ISLANDS", (0, 4))
+    monkeypatch.setattr(bench, "SCALING_SIZE", 24)
+    sc = bench._measure_scaling(40, 40, 1)["scaling"]
+    assert sc["size"]["n"] == [24, 40] and len(sc["size"]["seconds"]) == 2
+    assert sc["size"]["sea_samples"][1] > sc["size"]["sea_samples"][0]
+    assert len(sc["trains"]["seconds"]) == 2 and len(sc["islands"]["seconds"]) == 2
+    assert all(s > 0 for s in sc["trains"]["seconds"] + sc["islands"]["seconds"])
+
+
+def test_scaled_scenes_have_the_counts_asked_for():
+    base = Scene.default()
+    for n in (1, 4, 9):
+        sea = bench._scaled_sea(base.sea, n)
+        assert len(sea.trains) == n
+        assert sea.trains[:min(n, 4)] == base.sea.trains[:min(n, 4)]
+    for n in (0, 2, 7):
+        isl = bench._scaled_islands(base.islands, n)
+        assert len(isl) == n and len({i.name for i in isl}) == n
+    # a scene with more of both still renders (no overlap errors, finite values)
+    from sunset.render import render
+
+    sc = Scene(camera=base.with_size(24, 20).camera, sun=base.sun, sea=bench._scaled_sea(base.sea, 6),
+               islands=bench._scaled_islands(base.islands, 5))
+    frame = render(sc, 0.0, 2)
+    assert np.isfinite(frame.distance[frame.surface >= 0]).all()
+
+
+def test_profile_names_are_readable():
+    assert bench._function_name("/x/sunset/heightfield.py", "sea_profile") == "heightfield.py:sea_profile"
+    assert bench._function_name("~", "<method 'astype' of 'numpy.ndarray' objects>") == "numpy.ndarray.astype"
+    assert bench._function_name("~", "<built-in method numpy.empty>") == "numpy.empty"
+
+
+def test_bad_arguments_are_one_line_errors(capsys):
+    assert bench.main(["--repeats", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "repeats" in err
