@@ -296,7 +296,7 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
 
     log(f"brute-force reference at {brute_size}x{brute_size} ...")
-    brute = measure("brute", brute_size, brute_size, max(3, repeats // 2 + 1))
+    brute = measure("brute", brute_size, brute_size, repeats)
     brute_per_px = statistics.median(brute["times"]["total"]) / (brute_size * brute_size)
     rows.append(_row(f"brute-force ray caster {brute_size}x{brute_size} (direct rays)", "total",
                      brute["times"]["total"], brute_size * brute_size, brute))
@@ -311,13 +311,13 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     if numpy_reference:
         w, h = frame_sizes[-1]
         log(f"Figure 6 frame at {w}x{h}, NumPy reference kernels only ...")
-        res = measure("frame", w, h, max(3, repeats // 2 + 1), numpy_only=True)
+        res = measure("frame", w, h, repeats, numpy_only=True)
         for stage, times in res["times"].items():
             rows.append(_row(f"Figure 6 frame {w}x{h}, NumPy kernels", stage, times, w * h, res))
     if cycle:
         w, h = cycle_size
         log(f"{cycle_frames}-frame wave cycle, coded and filmed, at {w}x{h} ...")
-        res = _measure_cycle_child(w, h, max(1, repeats // 2), cycle_frames)
+        res = _measure_cycle_child(w, h, repeats, cycle_frames)
         for stage, times in res["times"].items():
             rows.append(_row(f"{cycle_frames}-frame cycle {w}x{h}", stage, times, cycle_frames * w * h, res))
 
