@@ -6,13 +6,20 @@ The public API, in the order of the paper's pipeline::
     frame = sunset.render(scene, t=0.0, reflections=2)   # vector stage
     codes = sunset.encode(scene, frame)       # the 8-bit tape
     rgb = sunset.expose(scene, codes, hours=0.5)          # film recorder
+    sunset.make_film(scene, "sunset.mp4")     # one wave cycle, filmed as the sun sets
+    wave = sunset.solve_stokes(0.12)          # an exact Stokes wave, H/λ = 0.12
 """
 
 from .camera import Camera
+from .codes import encode
+from .dicomed import expose
 from .errors import SunsetError
+from .film import make_film
 from .frame import Frame
 from .islands import Cosine, Island, Paraboloid
 from .scene import Scene, default_scene
+from .render import render
+from .stokes import solve_stokes
 from .sun import Sun
 from .waves import Sea, WaveTrain
 
@@ -20,5 +27,6 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Camera", "Cosine", "Frame", "Island", "Paraboloid", "Scene", "Sea", "Sun",
-    "SunsetError", "WaveTrain", "default_scene", "__version__",
+    "SunsetError", "WaveTrain", "default_scene", "encode", "expose", "make_film", "render", "solve_stokes",
+    "__version__",
 ]
