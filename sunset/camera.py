@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .constants import PAPER_HEIGHT, PAPER_SIGMA, PAPER_WIDTH
+from .constants import MAX_EYE_HEIGHT, MAX_PIXELS, PAPER_HEIGHT, PAPER_SIGMA, PAPER_WIDTH, SIGMA_MAX, SIGMA_MIN
 from .errors import SunsetError, require_finite, require_int_range, require_positive
 
 
@@ -57,6 +57,15 @@ class Camera:
         if not self.zy_max > self.zy_min:
             raise SunsetError(f"zy_max must be greater than zy_min, got {self.zy_min!r} .. {self.zy_max!r}")
         require_positive("sigma", self.sigma)
+        if not SIGMA_MIN <= self.sigma <= SIGMA_MAX:
+            raise SunsetError(f"sigma must be in {SIGMA_MIN:g}..{SIGMA_MAX:g} pixels (the sample spacing), "
+                              f"got {self.sigma!r}")
+        if self.eye_height > MAX_EYE_HEIGHT:
+            raise SunsetError(f"eye_height must be at most {MAX_EYE_HEIGHT:g} m (the sea is flat, the Earth "
+                              f"is not), got {self.eye_height!r}")
+        if self.width * self.height > MAX_PIXELS:
+            raise SunsetError(f"width × height must be at most {MAX_PIXELS:,} pixels, "
+                              f"got {self.width} × {self.height}")
 
     def with_size(self, width: int, height: int) -> "Camera":
         """The same window at another pixel size."""

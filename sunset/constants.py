@@ -210,3 +210,31 @@ STOKES_COARSE_MODES = 64
 #: Silantyev 2017) that crowds collocation points at the crest: by default
 #: L = min(1, STOKES_MAP_FACTOR * sqrt(STOKES_MAX_STEEPNESS - H/λ)).
 STOKES_MAP_FACTOR = 1.5
+
+# --- Limits on what a scene or a command may ask for (sunset/camera.py,
+# sunset/waves.py, sunset/scene.py, sunset/cli.py). Beyond them a request is
+# refused with one error line instead of running out of memory or producing
+# a picture the model cannot make.
+
+#: Most pixels in one frame (width × height): 64 megapixels, 8 × 8 of the
+#: paper's 1020 × 1023 frames; one frame's arrays then take some 25 GB.
+MAX_PIXELS = 64_000_000
+
+#: Range of σ, the spacing of the height-field samples in pixels: from 16
+#: samples per pixel (the sample arrays grow as 1/σ) to one every 16 pixels.
+SIGMA_MIN = 1.0 / 16.0
+SIGMA_MAX = 16.0
+
+#: Highest eye, metres. The sea is a plane: at 10 km the true horizon dips
+#: 3.2° below the flat model's, a sixth of the default picture's height.
+MAX_EYE_HEIGHT = 10_000.0
+
+#: Shortest wave, metres. Below about 1.7 cm surface tension, not gravity,
+#: sets the speed of ripples, and ω = √(g k) (eq. 1's dispersion) no longer holds.
+MIN_WAVELENGTH = 0.02
+
+#: Most bytes of codes one film's tape may hold (frames × width × height).
+MAX_TAPE_BYTES = 2**31
+
+#: Most frames per second of a film.
+MAX_FPS = 240

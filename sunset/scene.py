@@ -46,6 +46,12 @@ class Scene:
 
     def __post_init__(self):
         object.__setattr__(self, "islands", tuple(self.islands))
+        h = self.camera.eye_height
+        for k, island in enumerate(self.islands):
+            ground = float(island.height(0.0, 0.0))
+            if ground >= h:
+                raise SunsetError(f"islands[{k}] puts the eye inside it: its surface at the eye (x = y = 0) is "
+                                  f"{ground:.3g} m above the sea, the eye only {h:g} m")
 
     # -- derived scenes -------------------------------------------------------
     def still(self) -> "Scene":
@@ -75,6 +81,10 @@ class Scene:
         """
         if isinstance(path_or_text, Path) or ("\n" not in str(path_or_text) and "=" not in str(path_or_text)):
             path = Path(path_or_text)
+            if path.is_dir():
+                raise SunsetError(f"{path}: is a directory, not a scene file")
+            if path.exists() and not path.is_file():
+                raise SunsetError(f"{path}: not a regular file (a device or a pipe), not a scene file")
             try:
                 text = path.read_text(encoding="utf-8")
             except FileNotFoundError:
@@ -198,7 +208,7 @@ def _build(cls, data, path: str):
     except SunsetError as exc:
         msg = str(exc)
         head = msg.split(" ", 1)[0]
-        if head in fields:
+        if head.split("[", 1)[0] in fields:
             raise SunsetError(f"{_join(path, head)} {msg.split(' ', 1)[1]}") from None
         raise SunsetError(f"{path or 'scene'}: {msg}") from None
 

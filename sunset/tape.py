@@ -181,6 +181,8 @@ def read_tape(path: str | os.PathLike) -> Tape:
     """Read a tape file; any problem raises :class:`SunsetError` naming the file."""
     path = Path(path)
     try:
+        if path.exists() and not path.is_dir() and not path.is_file():
+            raise SunsetError(f"{path}: not a regular file (a device or a pipe), not a tape file")
         data = path.read_bytes()
     except FileNotFoundError:
         raise SunsetError(f"{path}: no such tape file") from None

@@ -32,7 +32,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .constants import GRAVITY
+from .constants import GRAVITY, MIN_WAVELENGTH
 from .errors import SunsetError, require_finite, require_int_range, require_nonnegative, require_positive
 from .stokes import stokes_coefficients
 
@@ -70,6 +70,9 @@ class WaveTrain:
     def __post_init__(self):
         require_nonnegative("amplitude", self.amplitude)
         require_positive("wavelength", self.wavelength)
+        if self.wavelength < MIN_WAVELENGTH:
+            raise SunsetError(f"wavelength must be at least {MIN_WAVELENGTH:g} m (shorter ripples are "
+                              f"capillary waves, outside deep-water gravity dispersion), got {self.wavelength!r}")
         require_finite("direction", self.direction)
         require_finite("phase", self.phase)
         require_int_range("stokes_order", self.stokes_order, 1, 4)

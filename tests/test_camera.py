@@ -14,6 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sunset.camera import Camera
+from sunset.constants import MAX_EYE_HEIGHT, MAX_PIXELS, SIGMA_MAX, SIGMA_MIN
 from sunset.errors import SunsetError
 
 finite = dict(allow_nan=False, allow_infinity=False)
@@ -29,7 +30,7 @@ def cameras(draw):
     return Camera(eye_height=draw(st.floats(0.1, 100.0, **finite)),
                   width=draw(st.integers(1, 40)), height=draw(st.integers(1, 40)),
                   s_min=s_min, s_max=s_max, zy_min=zy_min, zy_max=zy_max,
-                  sigma=draw(st.floats(0.01, 4.0, **finite)))
+                  sigma=draw(st.floats(SIGMA_MIN, 4.0, **finite)))
 
 
 def edges_centres(lo, hi, n):
@@ -163,7 +164,17 @@ def test_with_size_keeps_the_window():
     ("zy_max", -0.35, "greater"),
     ("sigma", 0.0, "positive"),
     ("sigma", float("nan"), "finite"),
+    ("sigma", 0.5 * SIGMA_MIN, "pixels"),
+    ("sigma", 2 * SIGMA_MAX, "pixels"),
+    ("eye_height", 2 * MAX_EYE_HEIGHT, "at most"),
 ])
 def test_bad_input_names_the_field(field, value, words):
     with pytest.raises(SunsetError, match=rf"^{field} .*{words}"):
         Camera(**{field: value})
+
+
+def test_too_many_pixels_is_refused_before_any_array_exists():
+    side = int(MAX_PIXELS ** 0.5) + 1
+    with pytest.raises(SunsetError, match=r"^width × height must be at most"):
+        Camera(width=side, height=side)
+    Camera(width=MAX_PIXELS // 1000, height=1000)       # exactly at the limit is allowed

@@ -58,6 +58,14 @@ def test_scene_prints_default_toml(capsys):
     (lambda p: edit(p, "eye_height = 2.0", "eye_height = nan"), ["camera.eye_height", "finite"]),
     (lambda p: edit(p, "width = 1020", "width = 0"), ["camera.width"]),
     (lambda p: edit(p, "amplitude = ", "amplitude = -"), ["sea.trains[0].amplitude"]),
+    (lambda p: p.write_text(""), ["missing field", "camera"]),
+    (lambda p: edit(p, "width = 1020", "width = 1000000000"), ["camera.width", "at most"]),
+    (lambda p: edit(p, "sigma = 0.25", "sigma = 1e-9"), ["camera.sigma"]),
+    (lambda p: edit(p, "eye_height = 2.0", "eye_height = 1e300"), ["camera.eye_height", "at most"]),
+    (lambda p: edit(p, "wavelength = ", "wavelength = 1e-30 #"), ["sea.trains[0].wavelength", "capillary"]),
+    (lambda p: edit(edit(p, "x = -300.0", "x = 0.0"), "y = 850.0", "y = 20.0"), ["islands[0]", "eye inside"]),
+    (lambda p: p.write_text('islands = "x"\n' + Scene.default().to_toml().split("[[islands]]")[0]),
+     ["islands", "array of tables"]),
 ])
 def test_bad_scene_files(capsys, tmp_path, scene_file, mutate, words):
     mutate(scene_file)
@@ -77,6 +85,19 @@ def test_bad_scene_files(capsys, tmp_path, scene_file, mutate, words):
     (["film", "carlas-island", "--frames", "0", "-o", "x.mp4"], ["--frames"]),
     (["expose", "missing.tape", "--hours", "1", "-o", "x.png"], ["missing.tape"]),
     (["bogus"], ["bogus"]),
+    (["figures", "--only", ""], ["--only"]),
+    (["render", "carlas-island", "--size", "10x10x10", "-o", "x.png"], ["WIDTHxHEIGHT"]),
+    (["render", "carlas-island", "--size", "9000x9000", "-o", "x.png"], ["too large"]),
+    (["render", "carlas-island", "-o", "x.jpg"], ["'x.jpg'", ".png"]),
+    (["render", "carlas-island", "-o", ""], ["output path is empty"]),
+    (["expose", "t.tape", "--hours", "1", "-o", "x.gif"], [".png"]),
+    (["film", "carlas-island", "--frames", "2", "-o", "x.txt"], ["'x.txt'", ".mp4"]),
+    (["film", "carlas-island", "--frames", "2", "--preview", "p.png", "-o", "x.mp4"], ["'p.png'", ".webp"]),
+    (["film", "carlas-island", "--frames", "2", "--fps", "100000", "-o", "x.mp4"], ["--fps", "at most"]),
+    (["film", "carlas-island", "--frames", "100000", "--size", "1000x1000", "-o", "x.mp4"], ["--frames", "GiB"]),
+    (["render", ".", "-o", "x.png"], ["directory"]),
+    (["expose", "/dev/zero", "--hours", "1", "-o", "x.png"], ["/dev/zero", "not a regular file"]),
+    (["render", "/dev/zero", "-o", "x.png"], ["/dev/zero", "not a regular file"]),
 ])
 def test_bad_arguments(capsys, tmp_path, monkeypatch, argv, words):
     monkeypatch.chdir(tmp_path)
@@ -88,6 +109,7 @@ def test_bad_arguments(capsys, tmp_path, monkeypatch, argv, words):
 def test_unwritable_output(capsys, tmp_path):
     code, _, err = run(capsys, "render", "carlas-island", "--size", SMALL, "-o", str(tmp_path / "no" / "x.png"))
     assert_user_error(code, err, "does not exist")
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_render_expose_and_damaged_tapes(capsys, tmp_path):

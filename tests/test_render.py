@@ -7,7 +7,7 @@ classes consistent with the geometry, and determinism.
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from sunset.camera import Camera
@@ -54,6 +54,7 @@ def scenes(draw):
                                  draw(st.floats(-0.2, 0.2, **finite))) for _ in range(draw(st.integers(0, 2))))))
     sun = Sun(azimuth=draw(st.floats(-60, 60, **finite)), tilt=draw(st.floats(5, 90, **finite)),
               radius=draw(st.floats(0.2, 3.0, **finite)))
+    assume(all(float(isl.height(0.0, 0.0)) < cam.eye_height for isl in islands))  # the eye is not underground
     return Scene(camera=cam, sun=sun, sea=Sea(trains), islands=tuple(islands))
 
 

@@ -10,10 +10,12 @@ import dataclasses
 import math
 import re
 import tomllib
+
+from sunset.constants import MIN_WAVELENGTH, SIGMA_MIN
 from importlib import resources
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from sunset.camera import Camera
@@ -83,12 +85,12 @@ def cameras(draw):
     zy_min = draw(floats(-1, 0.2))
     return Camera(eye_height=draw(floats(1e-3, 1e3)), width=draw(st.integers(1, 5000)),
                   height=draw(st.integers(1, 5000)), s_min=s_min, s_max=s_min + draw(floats(1e-3, 3)),
-                  zy_min=zy_min, zy_max=zy_min + draw(floats(1e-3, 2)), sigma=draw(floats(1e-3, 10)))
+                  zy_min=zy_min, zy_max=zy_min + draw(floats(1e-3, 2)), sigma=draw(floats(SIGMA_MIN, 10)))
 
 
 @st.composite
 def trains(draw):
-    return WaveTrain(amplitude=draw(floats(0, 5)), wavelength=draw(floats(0.01, 1e3)),
+    return WaveTrain(amplitude=draw(floats(0, 5)), wavelength=draw(floats(MIN_WAVELENGTH, 1e3)),
                      direction=draw(floats(-720, 720)), phase=draw(floats(-10, 10)),
                      stokes_order=draw(st.integers(1, 4)))
 
@@ -113,15 +115,18 @@ def islands(draw):
 
 @st.composite
 def scenes(draw):
-    return Scene(camera=draw(cameras()),
+    camera = draw(cameras())
+    isles = tuple(draw(st.lists(islands(), max_size=3)))
+    assume(all(float(isl.height(0.0, 0.0)) < camera.eye_height for isl in isles))   # the eye is not underground
+    return Scene(camera=camera,
                  sun=Sun(azimuth=draw(floats(-360, 360)), tilt=draw(floats(1e-3, 90)),
                          radius=draw(floats(1e-3, 9.99))),
                  sea=Sea(tuple(draw(st.lists(trains(), max_size=4)))),
-                 islands=tuple(draw(st.lists(islands(), max_size=3))),
+                 islands=isles,
                  title=draw(st.text(max_size=30)))
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(scenes())
 def test_random_scenes_round_trip_exactly(scene):
     text = scene.to_toml()
@@ -302,3 +307,15 @@ def set_at(data: dict, where: str, value) -> None:
     for key in keys[:-1]:
         data = data[key]
     data[keys[-1]] = value
+
+
+def test_an_eye_inside_an_island_is_refused():
+    base = Scene.default()
+    island = dataclasses.replace(base.islands[0], x=0.0, y=20.0)     # the west island moved onto the eye
+    ground = float(island.height(0.0, 0.0))
+    assert ground > base.camera.eye_height                          # independent check: the eye is under ground
+    with pytest.raises(SunsetError, match=r"^islands\[0\] puts the eye inside it"):
+        dataclasses.replace(base, islands=(island,) + base.islands[1:])
+    text = base.to_toml().replace("x = -300.0", "x = 0.0", 1).replace("y = 850.0", "y = 20.0", 1)
+    with pytest.raises(SunsetError, match=r"^islands\[0\] puts the eye inside it"):
+        Scene.from_toml(text)

@@ -371,3 +371,11 @@ def test_sea_bad_input():
         stokes_sea().elevation(np.array([1j]), 0.0)
     with pytest.raises(SunsetError, match="t must be real numbers"):
         stokes_sea().gradient(0.0, 0.0, "soon")
+
+
+def test_capillary_ripples_are_refused():
+    from sunset.constants import MIN_WAVELENGTH
+
+    with pytest.raises(SunsetError, match=r"^wavelength must be at least"):
+        WaveTrain(0.001, 0.5 * MIN_WAVELENGTH)
+    WaveTrain(0.001, MIN_WAVELENGTH)
