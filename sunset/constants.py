@@ -136,7 +136,7 @@ EXPOSURE_FOLLOW = 0.75
 #: The display's response to luminance x relative to the exposure:
 #: y = xⁿ/(xⁿ + σⁿ) (Naka & Rushton 1966), exponent n and semi-saturation σ.
 #: n below 1 compresses: the eye adapted to a sunset sky still sees the
-#: islands in shadow, some 300 times darker than the sky near the sun.
+#: islands in shadow, some 150 to 430 times darker (chapter 08 computes it) than the sky near the sun.
 EYE_RESPONSE_EXPONENT = 0.6
 EYE_SEMI_SATURATION = 2.0
 

@@ -42,10 +42,11 @@ computed spectrally (380–780 nm) with colour-science:
 
 The sun-disk rule
 -----------------
-"If the pixel is above the horizon and entirely inside the sun's disk, and
-the input data specifies a sky color, then render the pixel sun color"; near
-the rim, a mix weighted by the fraction of the pixel (above the horizon)
-covered by the disk, found by sub-sampling the pixel's footprint.
+A pixel above the horizon, wholly inside the sun's disk, whose code is a sky
+code, is exposed in the sun's colour (the paper, *Color Specification for the
+Sky*, paraphrased); near the rim, a mix weighted by the fraction of the pixel
+(above the horizon) covered by the disk, found by sub-sampling the pixel's
+footprint.
 """
 
 from __future__ import annotations
@@ -498,7 +499,8 @@ def eye_response(x) -> np.ndarray:
     the photoreceptors' compressive response, which is why the eye, adapted to a
     sunset sky, still sees the islands in their shadow that a photograph
     exposed for the same sky shows black. Below σ it is nearly the power law
-    (x/σ)ⁿ, so a ratio of 300 in luminance becomes a ratio of 300ⁿ ≈ 20.
+    (x/σ)ⁿ, so a ratio of 300 in luminance becomes a ratio of at most
+    300ⁿ ≈ 31.
     """
     a = np.power(np.clip(np.asarray(x, dtype=float), 0.0, None), EYE_RESPONSE_EXPONENT)
     return a / (a + EYE_SEMI_SATURATION ** EYE_RESPONSE_EXPONENT)
