@@ -308,6 +308,17 @@ def _quadratic(a, b, c):
 
 
 @_jit
+def _phase_ahead(rate, ps):
+    """Phase from a ray's start to the next crest ahead of it (as sunset.pierce.crest_phase), radians."""
+    two_pi = 2.0 * math.pi
+    if rate >= 0.0:
+        return two_pi - ps
+    if ps > 0.0:
+        return -ps
+    return -two_pi
+
+
+@_jit
 def _crest_phase(q, r, l, m, omega_t, phase, k, lift, half, psi, cand):
     two_pi = 2.0 * math.pi
     n = 0
@@ -320,12 +331,7 @@ def _crest_phase(q, r, l, m, omega_t, phase, k, lift, half, psi, cand):
         keep = True
         if rz > 0.0:
             # the bounding test of sunset.pierce.crest_candidates
-            if rate >= 0.0:
-                ahead = two_pi - ps
-            elif ps > 0.0:
-                ahead = -ps
-            else:
-                ahead = -two_pi
+            ahead = _phase_ahead(rate, ps)
             u0 = -ahead / k
             w = rate / k
             u_end = u0 + w * (lift / rz)
@@ -346,12 +352,7 @@ def _crest_hits(q, r, cand, psi, cos_psi, l, m, k, amps, amp_sum, kappa, out):
         rx, ry, rz = r[i, 0], r[i, 1], r[i, 2]
         rate = l * rx + m * ry
         ps = psi[j]
-        if rate >= 0.0:
-            ahead = two_pi - ps
-        elif ps > 0.0:
-            ahead = -ps
-        else:
-            ahead = -two_pi
+        ahead = _phase_ahead(rate, ps)
         u0 = -ahead / k
         # Σ a_n cos nθ by the Chebyshev recurrence (sunset.pierce.harmonic_sum)
         c1 = cos_psi[j]

@@ -83,12 +83,18 @@ def test_overlapping_or_short_maps_are_refused():
 
 
 # --------------------------------------------------------------------------- ρ(N)
+def normals_and_suns(sun, seed, count=20000):
+    """Random unit normals, random hours θ in [−π/2, π/2] and the sun's P(θ) for each."""
+    rng = np.random.default_rng(seed)
+    n = random_unit(rng, count)
+    theta = rng.uniform(-math.pi / 2, math.pi / 2, size=count)
+    p = np.cos(theta)[:, None] * sun.U + np.sin(theta)[:, None] * sun.V
+    return n, theta, p
+
+
 @pytest.mark.parametrize("sun", SUNS)
 def test_rho_decides_light_on_the_half_the_paper_considered(sun):
-    rng = np.random.default_rng(1)
-    n = random_unit(rng, 20000)
-    theta = rng.uniform(-math.pi / 2, math.pi / 2, size=len(n))
-    p = np.cos(theta)[:, None] * sun.U + np.sin(theta)[:, None] * sun.V
+    n, theta, p = normals_and_suns(sun, seed=1)
     lit = np.sum(n * p, axis=1)
     keep = (n @ sun.V > 1e-6) & (np.abs(lit) > 1e-9)
     assert np.array_equal((lit > 0)[keep], (rho(n, sun) < np.sin(theta))[keep])
@@ -96,10 +102,7 @@ def test_rho_decides_light_on_the_half_the_paper_considered(sun):
 
 @pytest.mark.parametrize("sun", SUNS)
 def test_printed_rho_fails_where_n_dot_v_is_negative_and_the_turned_rule_holds(sun):
-    rng = np.random.default_rng(2)
-    n = random_unit(rng, 20000)
-    theta = rng.uniform(-math.pi / 2, math.pi / 2, size=len(n))
-    p = np.cos(theta)[:, None] * sun.U + np.sin(theta)[:, None] * sun.V
+    n, theta, p = normals_and_suns(sun, seed=2)
     lit = np.sum(n * p, axis=1) > 0
     neg = n @ sun.V < -1e-6
     printed = rho(n, sun) < np.sin(theta)
@@ -112,10 +115,7 @@ def test_printed_rho_fails_where_n_dot_v_is_negative_and_the_turned_rule_holds(s
 @pytest.mark.parametrize("sun", SUNS)
 def test_rho_hat_shadow_band(sun):
     """Shadow exactly when sin θ <= ρ̂ <= 2 + sin θ, for every normal and θ in [−π/2, π/2]."""
-    rng = np.random.default_rng(3)
-    n = random_unit(rng, 20000)
-    theta = rng.uniform(-math.pi / 2, math.pi / 2, size=len(n))
-    p = np.cos(theta)[:, None] * sun.U + np.sin(theta)[:, None] * sun.V
+    n, theta, p = normals_and_suns(sun, seed=3)
     dot = np.sum(n * p, axis=1)
     rh = rho_hat(n, sun)
     assert np.all((rh >= -1) & (rh < 3))
