@@ -345,7 +345,6 @@ def _crest_phase(q, r, l, m, omega_t, phase, k, lift, half, psi, cand):
 
 @_jit
 def _crest_hits(q, r, cand, psi, cos_psi, l, m, k, amps, amp_sum, kappa, out):
-    two_pi = 2.0 * math.pi
     for j in range(cand.shape[0]):
         i = cand[j]
         qz = q[i, 2]

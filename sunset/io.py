@@ -86,7 +86,12 @@ def save_png(path: str | os.PathLike, rgb: np.ndarray, metadata: dict[str, str] 
 
 
 def save_matplotlib(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
-    """Save a matplotlib figure as PNG atomically and deterministically."""
+    """Save a matplotlib figure as PNG atomically and deterministically.
+
+    Figures are made with ``matplotlib.figure.Figure`` rather than pyplot, so
+    nothing global (the backend, pyplot's list of open figures) is touched and
+    nothing needs closing.
+    """
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
     write_bytes(path, buf.getvalue())

@@ -88,11 +88,8 @@ def diagnostic(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: float 
     Path
         ``path``.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
+    from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
     from ..heightfield import trace_direct
@@ -101,7 +98,8 @@ def diagnostic(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: float 
     info: dict = {}
     frame = trace_direct(scene, t, info=info)
 
-    fig, axes = plt.subplots(1, 3, figsize=(15.0, 5.6), constrained_layout=True)
+    fig = Figure(figsize=(15.0, 5.6), layout="constrained")
+    axes = fig.subplots(1, 3)
     axes[0].imshow(class_image(frame), interpolation="nearest")
     names = [isl.name or f"island {k}" for k, isl in enumerate(scene.islands, start=1)]
     axes[0].set_title("what the direct ray meets\n(islands " + ", ".join(names) + ": lighter to darker)", fontsize=9)
@@ -119,8 +117,4 @@ def diagnostic(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: float 
         a.set_yticks([])
     fig.suptitle(f"{scene.title or 'scene'}: direct rays, {scene.camera.width}×{scene.camera.height}, t = {t:g} s, σ = {scene.camera.sigma:g} px "
                  f"({info['sea_samples']} sea samples per scan line)")
-    try:
-        save_matplotlib(fig, path)
-    finally:
-        plt.close(fig)
-    return Path(path)
+    return save_matplotlib(fig, path)

@@ -64,18 +64,15 @@ def figure2(path, alpha: float = FIG2_ALPHA, steepness: float = FIG2_STEEPNESS, 
         raise SunsetError(f"steepness must be positive, got {steepness!r}")
     path = check_writable(path)
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from ..stokes import series_crest_curvature, solve_stokes, stokes_coefficients
 
     wave = solve_stokes(float(steepness))  # raises SunsetError beyond the highest wave
     alpha = float(alpha)
 
-    fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(14.0, 4.6), constrained_layout=True,
-                                     gridspec_kw={"width_ratios": [1.0, 1.0, 0.6]})
+    fig = Figure(figsize=(14.0, 4.6), layout="constrained")
+    ax, bx, cx = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.0, 1.0, 0.6]})
 
     # Left: the paper's Figure 2, two wavelengths, crests at k x = 0 and ±2π.
     kx = np.linspace(-2 * np.pi, 2 * np.pi, 1601)
@@ -129,8 +126,4 @@ def figure2(path, alpha: float = FIG2_ALPHA, steepness: float = FIG2_STEEPNESS, 
     cx.set_title("(c) the crest and its curvature", fontsize=10)
     cx.legend(loc="lower center", fontsize=7.5, framealpha=0.9)
 
-    try:
-        save_matplotlib(fig, path, dpi=dpi)
-    finally:
-        plt.close(fig)
-    return Path(path)
+    return save_matplotlib(fig, path, dpi=dpi)

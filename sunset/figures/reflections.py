@@ -73,17 +73,15 @@ def reflection_modes(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: 
     Path
         ``path``.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from ..render import render
 
     path, scene = prepare(path, size, scene)
     frames = {mode: render(scene, t, mode) for mode in (0, 1, 2)}
 
-    fig, axes = plt.subplots(3, 3, figsize=(10.5, 10.0), constrained_layout=True)
+    fig = Figure(figsize=(10.5, 10.0), layout="constrained")
+    axes = fig.subplots(3, 3)
     rz_max = max(float(np.max(f.ray[..., 2])) for f in frames.values())
     for row, (mode, frame) in enumerate(frames.items()):
         sea = frame.surface == SEA
@@ -101,8 +99,4 @@ def reflection_modes(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: 
             a.set_xticks([])
             a.set_yticks([])
     fig.suptitle(f"{scene.title or 'scene'}: the three reflection modes, {scene.camera.width}×{scene.camera.height}, t = {t:g} s")
-    try:
-        save_matplotlib(fig, path)
-    finally:
-        plt.close(fig)
-    return Path(path)
+    return save_matplotlib(fig, path)
