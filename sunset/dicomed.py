@@ -71,7 +71,7 @@ from .sun import Sun
 
 __all__ = [
     "spectral_data", "tables_linear", "kasten_young_air_mass", "slant_columns", "sky_radiance", "sun_transmittance", "sun_radiance", "sun_colour",
-    "visible_fraction", "ozone_air_mass", "island_lighting", "tables", "sun_coverage", "expose", "PASSES",
+    "visible_fraction", "ozone_air_mass", "island_lighting", "direct_irradiance", "tables", "sun_coverage", "expose", "PASSES",
     "eye_response", "fresnel_reflectance", "irradiance", "sky_dome", "island_normals",
 ]
 
@@ -323,18 +323,6 @@ def sun_radiance(elevation, delta: float) -> np.ndarray:
     return spectral_data().sun * sun_transmittance(elevation) / omega
 
 
-@functools.lru_cache(maxsize=None)
-def _hemisphere() -> tuple[np.ndarray, np.ndarray]:
-    """Directions and weights cos(zenith)·dΩ covering the upper hemisphere (midpoint rule in μ, φ)."""
-    mu = (np.arange(_N_HEMI_MU) + 0.5) / _N_HEMI_MU
-    phi = (np.arange(_N_HEMI_PHI) + 0.5) * (2 * math.pi / _N_HEMI_PHI)
-    mu, phi = np.meshgrid(mu, phi, indexing="ij")
-    sin_t = np.sqrt(1.0 - mu * mu)
-    dirs = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), mu], axis=-1).reshape(-1, 3)
-    weights = (mu * (1.0 / _N_HEMI_MU) * (2 * math.pi / _N_HEMI_PHI)).reshape(-1)
-    return dirs, weights
-
-
 def island_lighting(sun_dir, delta: float) -> tuple[np.ndarray, np.ndarray]:
     """Direct normal irradiance and diffuse horizontal irradiance, spectral, per unit E₀.
 
@@ -345,12 +333,25 @@ def island_lighting(sun_dir, delta: float) -> tuple[np.ndarray, np.ndarray]:
         visible fraction of the disk) and the sky's irradiance on a
         horizontal surface, ∫ L cos(zenith) dΩ.
     """
-    sp = spectral_data()
-    e = math.asin(max(-1.0, min(1.0, float(sun_dir[2]))))
-    direct = sp.sun * sun_transmittance(e) * visible_fraction(e, delta)
-    dirs, w = _hemisphere()
-    diffuse = w @ sky_radiance(dirs, sun_dir)
-    return direct, diffuse
+    dirs, d_omega = _sphere()
+    up = dirs[: len(dirs) // 2]
+    diffuse = (d_omega[: len(up)] * up[:, 2]) @ sky_radiance(up, sun_dir)
+    return direct_irradiance(sun_dir, delta), diffuse
+
+
+def direct_irradiance(sun_dir, delta: float) -> np.ndarray:
+    """The sun's direct beam on a surface facing it, spectral, per unit E₀ (n_λ,).
+
+    Transmittance along the slant path times the fraction of the disk of
+    angular radius ``delta`` (radians) above the horizon.
+    """
+    e = _elevation(sun_dir)
+    return spectral_data().sun * sun_transmittance(e) * visible_fraction(e, delta)
+
+
+def _elevation(direction) -> float:
+    """Elevation of a unit direction above the horizon, radians."""
+    return math.asin(max(-1.0, min(1.0, float(direction[2]))))
 
 
 def fresnel_reflectance(cos_i, n: float = WATER_REFRACTIVE_INDEX) -> np.ndarray:
@@ -554,12 +555,12 @@ def _island_factors(theta: float, size: int) -> np.ndarray:
     return (f * w).sum(axis=1) / w.sum()
 
 
-def _tables_linear(sun: Sun, hours: float) -> np.ndarray:
+def _tables_linear(sun: Sun, hours: float) -> tuple[np.ndarray, np.ndarray]:
     """The three passes' tables as linear film response, shape (256, 3), and the sun's colour (3,)."""
     cmap = CODE_MAP
     theta = float(Sun.theta(hours))
     p = sun.position(hours)
-    e_sun = math.asin(max(-1.0, min(1.0, float(p[2]))))
+    e_sun = _elevation(p)
     out = np.zeros((256, 3))
 
     # sky: look along the camera's axis at the code's elevation
@@ -587,7 +588,7 @@ def _tables_linear(sun: Sun, hours: float) -> np.ndarray:
     out[cmap.halo.start:cmap.halo.stop] = (1 - b) * halo_sky + b * sun_lin
 
     # islands: reflectance × (direct × cosine factor + diffuse sky)
-    direct, _ = island_lighting(p, delta)
+    direct = direct_irradiance(p, delta)
     dome = sky_dome(p)
     sp = spectral_data()
     for rng, name in zip(cmap.islands, ("hill", "cliff", "beach")):
@@ -731,7 +732,7 @@ def expose(scene, codes, hours: float) -> np.ndarray:
         raise SunsetError(f"codes must have the camera's shape {(cam.height, cam.width)}, got {codes.shape}")
     tab = tables(scene.sun, hours)
     rgb = np.empty(codes.shape + (3,), np.uint8)
-    for k in range(3):                          # the red, green and blue passes
+    for k, _colour in enumerate(PASSES):        # one exposure through each filter
         rgb[..., k] = tab[k][codes]
     rows, cols, cov = sun_coverage(cam, scene.sun, hours)
     if cov.size:

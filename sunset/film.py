@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS
+from .constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_FPS, MAX_TAPE_BYTES
 from .errors import SunsetError, require_finite, require_int_range
 from .tape import Tape, write_tape
 
@@ -96,6 +96,11 @@ def render_cycle(scene, frames: int, reflections: int = 2, seed: int = 0, progre
     require_int_range("reflections", reflections, 0, 2)
     require_int_range("seed", seed, 0, 2**32 - 1)
     times = cycle_times(scene, frames)
+    cam = scene.camera
+    if frames * cam.width * cam.height > MAX_TAPE_BYTES:
+        raise SunsetError(f"frames: {frames} frames at {cam.width}x{cam.height} would need a tape of "
+                          f"{frames * cam.width * cam.height / 2**30:.1f} GiB (at most "
+                          f"{MAX_TAPE_BYTES / 2**30:g} GiB): use fewer frames or a smaller picture")
     with _bar(frames, "rendering the wave cycle", progress) as bar:
         codes = code_frames(scene, times, reflections, seed, workers=workers, on_frame=lambda i, c: bar.update(1))
     return Tape(scene=scene, codes=codes, times=times, reflections=reflections, seed=seed)
@@ -138,6 +143,27 @@ def _preview_image(rgb: np.ndarray, width: int):
     return img
 
 
+#: Name endings of the film and of its preview.
+FILM_SUFFIXES = (".mp4",)
+PREVIEW_SUFFIXES = (".gif", ".webp")
+
+
+def _check_film(path_mp4, path_preview, from_hours: float, to_hours: float, cycles: int, fps: int,
+                preview_width: int = PREVIEW_WIDTH) -> tuple[Path, Path | None]:
+    """Every check of :func:`write_film`'s arguments, made before any work; the checked paths."""
+    from .io import check_writable
+
+    require_finite("from_hours", from_hours)
+    require_finite("to_hours", to_hours)
+    require_int_range("cycles", cycles, 1)
+    require_int_range("fps", fps, 1, MAX_FPS)
+    require_int_range("preview_width", preview_width, 8)
+    path_mp4 = check_writable(path_mp4, FILM_SUFFIXES)
+    if path_preview is not None:
+        path_preview = check_writable(path_preview, PREVIEW_SUFFIXES)
+    return path_mp4, path_preview
+
+
 def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.PathLike | None = None,
                from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, cycles: int = FILM_CYCLES,
                fps: int = FILM_FPS, progress: bool = True, preview_width: int = PREVIEW_WIDTH) -> list[Path]:
@@ -170,14 +196,9 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
     """
     import imageio_ffmpeg
 
-    from .io import atomic_write, check_writable
+    from .io import atomic_write
 
-    require_int_range("cycles", cycles, 1)
-    require_int_range("fps", fps, 1, 240)
-    require_int_range("preview_width", preview_width, 8)
-    path_mp4 = check_writable(path_mp4)
-    if path_preview is not None:
-        path_preview = check_writable(path_preview)
+    path_mp4, path_preview = _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps, preview_width)
     total = cycles * len(tape)
     step = max(1, -(-total // PREVIEW_FRAMES))
     preview = []
@@ -224,11 +245,9 @@ def make_film(scene, path_mp4: str | os.PathLike, path_preview: str | os.PathLik
     """
     from .io import check_writable
 
-    for p in (path_mp4, path_preview, tape_path):
-        if p is not None:
-            check_writable(p)
-    require_int_range("frames", frames, 1)
-    require_int_range("cycles", cycles, 1)
+    _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps)
+    if tape_path is not None:
+        check_writable(tape_path)
     tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress)
     written = write_film(tape, path_mp4, path_preview, from_hours=from_hours, to_hours=to_hours, cycles=cycles,
                          fps=fps, progress=progress)

@@ -17,10 +17,17 @@ import numpy as np
 
 from .errors import SunsetError
 
+#: The name endings of the files this package writes, by kind.
+PNG_SUFFIXES = (".png",)
 
-def check_writable(path: str | os.PathLike) -> Path:
-    """Raise :class:`SunsetError` unless ``path`` can be created or replaced."""
+
+def check_writable(path: str | os.PathLike, suffixes: tuple[str, ...] = ()) -> Path:
+    """Raise :class:`SunsetError` unless ``path`` can be created or replaced (and ends in one of ``suffixes``)."""
+    if not str(path).strip():
+        raise SunsetError("the output path is empty")
     path = Path(path)
+    if suffixes and path.suffix.lower() not in suffixes:
+        raise SunsetError(f"output {str(path)!r} must end in {' or '.join(suffixes)}")
     parent = path.parent if str(path.parent) else Path(".")
     if path.is_dir():
         raise SunsetError(f"{path}: is a directory, not an output file")
@@ -81,6 +88,7 @@ def png_bytes(rgb: np.ndarray, metadata: dict[str, str] | None = None) -> bytes:
 
 def save_png(path: str | os.PathLike, rgb: np.ndarray, metadata: dict[str, str] | None = None) -> Path:
     """Write an image as PNG atomically, with text metadata (see :func:`png_bytes`)."""
+    check_writable(path, PNG_SUFFIXES)
     write_bytes(path, png_bytes(rgb, metadata))
     return Path(path)
 
@@ -92,6 +100,7 @@ def save_matplotlib(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
     nothing global (the backend, pyplot's list of open figures) is touched and
     nothing needs closing.
     """
+    check_writable(path, PNG_SUFFIXES)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
     write_bytes(path, buf.getvalue())

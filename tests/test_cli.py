@@ -94,7 +94,7 @@ def test_bad_scene_files(capsys, tmp_path, scene_file, mutate, words):
     (["film", "carlas-island", "--frames", "2", "-o", "x.txt"], ["'x.txt'", ".mp4"]),
     (["film", "carlas-island", "--frames", "2", "--preview", "p.png", "-o", "x.mp4"], ["'p.png'", ".webp"]),
     (["film", "carlas-island", "--frames", "2", "--fps", "100000", "-o", "x.mp4"], ["--fps", "at most"]),
-    (["film", "carlas-island", "--frames", "100000", "--size", "1000x1000", "-o", "x.mp4"], ["--frames", "GiB"]),
+    (["film", "carlas-island", "--frames", "100000", "--size", "1000x1000", "-o", "x.mp4"], ["frames", "GiB"]),
     (["render", ".", "-o", "x.png"], ["directory"]),
     (["expose", "/dev/zero", "--hours", "1", "-o", "x.png"], ["/dev/zero", "not a regular file"]),
     (["render", "/dev/zero", "-o", "x.png"], ["/dev/zero", "not a regular file"]),

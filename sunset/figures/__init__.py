@@ -37,27 +37,25 @@ def parse_only(text: str | None) -> list[str]:
     return [n for n in FIGURES if n in names]
 
 
-def make_figure(name: str, out: Path, scene, size: tuple[int, int] | None = None, seed: int = 0,
-                film_frames: int = 32, progress: bool = True) -> list[Path]:
-    """Make one figure into ``out``; returns the files written."""
+def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 32,
+                progress: bool = True) -> list[Path]:
+    """Make one figure of ``scene`` (at its camera's size) into ``out``; returns the files written."""
     out = Path(out)
     if name == "2":
         from .fig2 import figure2
         return [figure2(out / "fig2.png")]
     if name in ("4", "5", "6", "7"):
         from .paper import paper_figure
-        sc = scene.with_size(*size) if size else scene
-        return [paper_figure(name, out, sc, seed=seed)]
+        return [paper_figure(name, out, scene, seed=seed)]
     if name == "diagnostic":
         from .diagnostic import diagnostic
-        return [diagnostic(out / "diagnostic.png")]
+        return [diagnostic(out / "diagnostic.png", scene=scene)]
     if name == "reflections":
         from .reflections import reflection_modes
-        return [reflection_modes(out / "reflections.png")]
+        return [reflection_modes(out / "reflections.png", scene=scene)]
     if name == "film":
         from ..film import make_film
-        sc = scene.with_size(*size) if size else scene
-        return list(make_film(sc, out / "film.mp4", out / "film-preview.webp", frames=film_frames,
+        return list(make_film(scene, out / "film.mp4", out / "film-preview.webp", frames=film_frames,
                               seed=seed, progress=progress))
     raise SunsetError(f"unknown figure {name!r}")  # pragma: no cover - parse_only guards
 
@@ -69,6 +67,9 @@ def make_figures(out: str | Path = "figures", only: str | None = None, size: tup
     from ..scene import Scene
 
     names = parse_only(only)
+    scene = Scene.default() if scene is None else scene
+    if size:
+        scene = scene.with_size(*size)
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise SunsetError(f"{out}: cannot write figures there: it is a file, not a folder")
@@ -76,11 +77,10 @@ def make_figures(out: str | Path = "figures", only: str | None = None, size: tup
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise SunsetError(f"{out}: cannot create the output folder ({exc.strerror})") from None
-    scene = Scene.default() if scene is None else scene
     written = []
     for name in names:
         start = time.perf_counter()
-        files = make_figure(name, out, scene, size=size, seed=seed, progress=progress, film_frames=film_frames)
+        files = make_figure(name, out, scene, seed=seed, progress=progress, film_frames=film_frames)
         written += files
         log(f"{FIGURES[name][1]}: {', '.join(str(f) for f in files)} ({time.perf_counter() - start:.1f} s)")
     return written

@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..codes import encode
 from ..dicomed import expose
+from ..errors import require_int_range
 from ..io import save_png
-from ..render import render
+from ..render import code_frame
 from ..scene import Scene
 from ..tape import Tape, read_tape, write_tape
 
@@ -58,13 +58,13 @@ def png_metadata(scene: Scene, settings: dict) -> dict[str, str]:
 
 def render_tape(scene: Scene, t: float, reflections: int, seed: int) -> Tape:
     """The vector stage for one frame: render, then code to 8 bits."""
-    frame = render(scene, t, reflections)
-    codes = encode(scene, frame, seed=seed)
+    codes = code_frame(scene, t, reflections, seed)
     return Tape(scene=scene, codes=codes[None], times=np.array([t]), reflections=reflections, seed=seed)
 
 
 def expose_png(tape: Tape, hours: float, path: Path, frame: int = 0, extra: dict | None = None) -> Path:
     """The film-recorder stage for one frame of a tape, written as a PNG."""
+    require_int_range("frame", frame, 0, len(tape) - 1)
     rgb = expose(tape.scene, tape.codes[frame], hours)
     settings = {"t": float(tape.times[frame]), "reflections": tape.reflections, "seed": tape.seed,
                 "hours": float(hours), **(extra or {})}
@@ -89,6 +89,6 @@ def paper_figure(number: str, out: Path, scene: Scene, seed: int = 0, t: float =
     if tape is None:
         src = PAPER_FIGURES[source]
         tape = render_tape(scene.still() if src.still else scene, t, src.reflections, seed)
-        if source == "6":
+        if any(f.reuses == source for f in PAPER_FIGURES.values()):   # another figure re-exposes it
             write_tape(tape_path, tape)
     return expose_png(tape, spec.hours, out / f"fig{number}.png", extra={"figure": number})
