@@ -69,6 +69,7 @@ from .constants import (
 from . import compiled
 from .errors import require_finite
 from .frame import Frame
+from .waves import unit_normal
 
 _F32 = np.float32
 
@@ -132,7 +133,7 @@ def sampling(camera, sea_max_elevation: float = 0.0) -> Sampling:
         y_near = max(h - sea_max_elevation, NEAR_PLANE_FRACTION * h) / -zeta0
         n = int(math.ceil(1.0 / (y_near * du))) + 1
     else:  # no pixel sees the sea
-        y_near, n = math.inf, 0
+        n = 0
     return Sampling(du=du, n=n, y_near=(1.0 / (n * du)) if n else math.inf, y_far=1.0 / du, y_clip=y_clip)
 
 
@@ -269,24 +270,6 @@ def _sea_terms(sea, s, t):
         c = math.remainder(train.phase - train.omega * t, 2.0 * math.pi)
         out.append((l, m, (l * s + m).astype(_F32), _F32(c), train.harmonic_amplitudes()))
     return out
-
-
-def _cos_harmonics(cs, amps, out):
-    """out += Σ_n a_n cos(nθ) given cs = cos θ (Chebyshev: cos nθ = T_n(cos θ))."""
-    n = len(amps)
-    out += _F32(amps[0]) * cs
-    if n >= 2:
-        c2 = cs * cs
-        # a2 (2c² − 1) + a3 (4c³ − 3c) + a4 (8c⁴ − 8c² + 1)
-        a2 = amps[1]
-        a3 = amps[2] if n >= 3 else 0.0
-        a4 = amps[3] if n >= 4 else 0.0
-        poly = _F32(8 * a4) * c2 + _F32(2 * a2 - 8 * a4)
-        poly *= c2
-        poly += _F32(a4 - a2)
-        if a3:
-            poly += cs * (_F32(4 * a3) * c2 - _F32(3 * a3))
-        out += poly
 
 
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
@@ -579,7 +562,7 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     cam = scene.camera
     H, W, h = cam.height, cam.width, cam.eye_height
     d = scene.sea.max_elevation
-    ds, dz = cam.pixel_pitch
+    dz = cam.pixel_pitch[1]
     zeta0 = cam.zy_min + 0.5 * dz
     samp = sampling(cam, d)
     s_all = cam.s_centres()
@@ -701,14 +684,14 @@ def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:
         if compiled.enabled():
             compiled.put_unit_normals(normal, idx, fx, fy)
         else:
-            normal.reshape(-1, 3)[idx] = _unit_normal(fx, fy)
+            normal.reshape(-1, 3)[idx] = unit_normal(fx, fy)
     for k, island in enumerate(scene.islands, start=1):
         idx, s_hit, yk = hits[k]
         if not len(idx):
             continue
         _, prt, gx, gy = island.surface((s_hit * yk).astype(_F32), yk.astype(_F32))
         part.reshape(-1)[idx] = prt
-        normal.reshape(-1, 3)[idx] = _unit_normal(gx.astype(_F32), gy.astype(_F32))
+        normal.reshape(-1, 3)[idx] = unit_normal(gx.astype(_F32), gy.astype(_F32))
     return Frame(t=t, reflections=0, direction=direction, surface=surf, part=part, distance=distance,
                  point=point, normal=normal)
 
@@ -743,7 +726,3 @@ def _assemble_geometry(best_u, best_surf, s_all, zeta):
     return surf, y, direction, point, distance, normal
 
 
-def _unit_normal(fx, fy):
-    """(−f_x, −f_y, 1)/√(f_x² + f_y² + 1), shape (..., 3) (the paper's x̄, ȳ, z̄)."""
-    zb = 1.0 / np.sqrt(fx * fx + fy * fy + 1.0)
-    return np.stack([-zb * fx, -zb * fy, zb], axis=-1)

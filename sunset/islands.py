@@ -32,6 +32,7 @@ import numpy as np
 
 from .constants import PART_BEACH, PART_CLIFF, PART_HILL
 from .errors import SunsetError, require_finite, require_nonnegative, require_positive
+from .waves import unit_normal
 
 
 @dataclass(frozen=True)
@@ -278,9 +279,7 @@ class Island:
 
     def normal(self, x, y):
         """Unit upward normal (−H_x, −H_y, 1)/√(H_x² + H_y² + 1), shape ``broadcast + (3,)``."""
-        gx, gy = self.gradient(x, y)
-        zb = 1.0 / np.sqrt(gx * gx + gy * gy + 1.0)
-        return np.stack([-zb * gx, -zb * gy, zb], axis=-1)
+        return unit_normal(*self.gradient(x, y))
 
     # -- where samples are needed -------------------------------------------------
     def bound_levels(self, sea_max_elevation: float) -> dict[str, float]:

@@ -69,7 +69,7 @@ from .errors import SunsetError, require_finite, require_int_range
 from .frame import Frame
 from .islands import Island
 from .stokes import series_crest_curvature
-from .waves import Sea, WaveTrain
+from .waves import Sea, WaveTrain, unit_normal
 
 __all__ = [
     "reflect", "paraboloid_coefficients", "quadratic_interval", "first_entry", "pierce_paraboloid",
@@ -382,9 +382,7 @@ def island_normal(island: Island, x, y, part) -> np.ndarray:
     smooth paraboloid, but is shaded with the normal of eq. 4 at the
     piercing point's (x, y). Shape ``broadcast(x, y) + (3,)``.
     """
-    gx, gy = island_gradient(island, x, y, part)
-    nz = 1.0 / np.sqrt(gx * gx + gy * gy + 1.0)
-    return np.stack([-gx * nz, -gy * nz, nz], axis=-1)
+    return unit_normal(*island_gradient(island, x, y, part))
 
 
 # --------------------------------------------------------------------------- secondary reflections
@@ -490,7 +488,7 @@ def crest_candidates(train: WaveTrain, t: float, q, r) -> np.ndarray:
     return ~clear
 
 
-def crest_cylinder(train: WaveTrain, t: float, q, r, elevation=None) -> CrestCylinder:
+def crest_cylinder(train: WaveTrain, t: float, q, r) -> CrestCylinder:
     """The parabolic cylinder tangent to the first crest of ``train`` ahead of each ray.
 
     Crest lines are where the train's phase θ = ℓx + my − ωt + φ ≡ 0 (mod 2π).
@@ -523,8 +521,6 @@ def crest_cylinder(train: WaveTrain, t: float, q, r, elevation=None) -> CrestCyl
         Time, seconds.
     q, r : array_like, shape (N, 3)
         Ray origins on the sea (eye coordinates, metres) and first reflected directions.
-    elevation : ndarray, optional
-        This train's own elevation at Q if already known.
     """
     q = np.asarray(q, dtype=float)
     r = np.asarray(r, dtype=float)
@@ -532,8 +528,7 @@ def crest_cylinder(train: WaveTrain, t: float, q, r, elevation=None) -> CrestCyl
     l, m = train.wave_vector
     psi, rate, u0 = _crest_ahead(train, t, q, r)
     amps = train.harmonic_amplitudes()
-    if elevation is None:
-        elevation = harmonic_sum(amps, np.cos(psi))  # cos θ = cos ψ, cheaper on the reduced angle
+    elevation = harmonic_sum(amps, np.cos(psi))  # cos θ = cos ψ, cheaper on the reduced angle
     top = q[..., 2] + float(np.sum(amps)) - elevation
     kappa = crest_curvature(train)
     cl, cm = l / k, m / k

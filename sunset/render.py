@@ -25,10 +25,6 @@ from .errors import require_finite, require_int_range
 from .frame import Frame
 from .scene import Scene
 
-#: The reflection modes ``render`` accepts.
-REFLECTION_MODES = (0, 1, 2)
-
-
 def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
     """Trace every pixel of ``scene`` at time ``t`` (seconds).
 
@@ -50,11 +46,7 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
 
     require_finite("t", t)
     require_int_range("reflections", reflections, 0, 2)
-    frame = trace_direct(scene, t)
-    frame.reflections = reflections
-    frame.finish_direct()
-    trace_reflections(scene, frame, reflections)
-    return frame
+    return trace_reflections(scene, trace_direct(scene, t), reflections)
 
 
 # --------------------------------------------------------------------------- many frames, both cores

@@ -128,6 +128,16 @@ class WaveTrain:
         return float(np.sum(np.abs(self.harmonic_amplitudes())))
 
 
+def unit_normal(fx, fy) -> np.ndarray:
+    """The unit upward normal of a height field z = f(x, y) from its gradient, shape (..., 3).
+
+    The paper's normal formula: z̄ = 1/√(f_x² + f_y² + 1), x̄ = −z̄ f_x,
+    ȳ = −z̄ f_y; used for the sea, the islands and the wrinkle normals alike.
+    """
+    zb = 1.0 / np.sqrt(fx * fx + fy * fy + 1.0)
+    return np.stack([-zb * fx, -zb * fy, zb], axis=-1)
+
+
 def _as_arrays(x, y, t):
     """x, y, t as float64 arrays, and the dtype of the result.
 
@@ -283,6 +293,4 @@ class Sea:
 
         z̄ = 1/√(f_x² + f_y² + 1), x̄ = −z̄ f_x, ȳ = −z̄ f_y; dtype as :meth:`elevation`.
         """
-        fx, fy = self.gradient(x, y, t)
-        zb = 1.0 / np.sqrt(fx * fx + fy * fy + 1.0)
-        return np.stack([-zb * fx, -zb * fy, zb], axis=-1)
+        return unit_normal(*self.gradient(x, y, t))
