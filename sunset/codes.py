@@ -195,7 +195,11 @@ def rho(normals, sun: Sun) -> np.ndarray:
     ndarray (...)
         ρ(N) in [−1, 1].
     """
-    a, b = _nu_nv(normals, sun)
+    return _rho(*_nu_nv(normals, sun))
+
+
+def _rho(a, b) -> np.ndarray:
+    """ρ from a = N·U and b = N·V."""
     r = np.hypot(a, b)
     with np.errstate(invalid="ignore", divide="ignore"):
         out = np.where(r > 1e-12, -a / np.where(r > 1e-12, r, 1.0), 1.0)
@@ -210,7 +214,7 @@ def rho_hat(normals, sun: Sun) -> np.ndarray:
     N·P(θ) <= 0 (shadow) exactly when sin θ <= ρ̂(N) <= 2 + sin θ.
     """
     a, b = _nu_nv(normals, sun)
-    r = rho(normals, sun)
+    r = _rho(a, b)
     out = np.where(b > 0, r, 2.0 - r)
     return np.where(out >= 3.0, out - 4.0, out)
 
