@@ -415,11 +415,7 @@ def island_table(islands, eye_height: float, z0: float) -> np.ndarray:
     h = float(eye_height)
     rows = []
     for isl in islands:
-        rho = 0.0
-        for par in (isl.cliff, isl.beach):
-            lam = 0.5 * (par.e + par.g) - math.sqrt(0.25 * (par.e - par.g) ** 2 + 0.25 * par.f * par.f)
-            rho = max(rho, math.sqrt(max(par.height - h - z0, 0.0) / lam))
-        top = max(isl.beach.height, isl.cliff_top + isl.hill_factor * (isl.cliff.height - isl.cliff_top))
+        rho, top = isl.smooth_radius(h + z0), isl.smooth_height
         cl, bc = isl.cliff, isl.beach
         rows.append([isl.x, isl.y, cl.e, cl.f, cl.g, cl.height, isl.cliff_top, isl.hill_factor,
                      bc.e, bc.f, bc.g, bc.height, rho, top - h])

@@ -189,6 +189,18 @@ class Island:
         q = self.cliff.height + self.max_perturbation
         return max(self.beach.height, self.cliff_top + self.hill_factor * (q - self.cliff_top))
 
+    @property
+    def smooth_height(self) -> float:
+        """Top of the smooth island (eq. 3 without its cosine terms, which reflected rays pierce), m."""
+        return max(self.beach.height, self.cliff_top + self.hill_factor * (self.cliff.height - self.cliff_top))
+
+    def smooth_radius(self, level: float) -> float:
+        """Distance from the apex beyond which the smooth beach and cliff are below ``level``, metres.
+
+        ``level`` is metres above mean sea level; see :attr:`Paraboloid.min_curvature`.
+        """
+        return max(math.sqrt(max(p.height - level, 0.0) / p.min_curvature) for p in (self.cliff, self.beach))
+
     # -- eqs. 3 and 4 ----------------------------------------------------------
     def paraboloid(self, x, y, which: str = "cliff"):
         """P_k(x, y) of eq. 3 for the ``"cliff"`` or ``"beach"`` paraboloid, metres."""

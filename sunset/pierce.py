@@ -339,11 +339,8 @@ def island_candidates(island: Island, eye_height: float, q, r) -> np.ndarray:
     if not up.any():
         return np.ones(q.shape[:-1], bool)
     z0 = float(np.min(q[..., 2][up]))
-    rho = 0.0
-    for par in (island.cliff, island.beach):
-        lam = 0.5 * (par.e + par.g) - math.sqrt(0.25 * (par.e - par.g) ** 2 + 0.25 * par.f * par.f)
-        rho = max(rho, math.sqrt(max(par.height - eye_height - z0, 0.0) / lam))
-    top = max(island.beach.height, island.cliff_top + island.hill_factor * (island.cliff.height - island.cliff_top))
+    rho = island.smooth_radius(eye_height + z0)
+    top = island.smooth_height
     cx = island.x - q[..., 0]
     cy = island.y - q[..., 1]
     rx, ry, rz = r[..., 0], r[..., 1], r[..., 2]
