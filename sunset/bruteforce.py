@@ -29,8 +29,9 @@ import math
 import numpy as np
 
 from .constants import PART_NONE, SEA, SKY
-from .errors import require_finite, require_positive
+from .errors import SunsetError, require_finite, require_positive
 from .frame import Frame
+from .waves import unit_normal
 
 #: Steps per shortest wavelength of the sea (divided again by the highest Stokes order).
 SEA_STEPS_PER_WAVELENGTH = 16
@@ -250,8 +251,8 @@ def trace_direct_bruteforce(scene, t: float = 0.0, *, sea_step: float | None = N
     for k, island in enumerate(scene.islands, start=1):
         sel = surf == k
         if sel.any():
-            normal[sel] = island.normal(point[sel, 0], point[sel, 1])
-            part[sel] = island.part(point[sel, 0], point[sel, 1])
+            _, part[sel], gx, gy = island.surface(point[sel, 0], point[sel, 1])
+            normal[sel] = unit_normal(gx, gy)
     d = cam.directions()
     return Frame(t=float(t), reflections=0, direction=d.astype(np.float32), surface=surf.reshape(H, W),
                  part=part.reshape(H, W), distance=distance.reshape(H, W).astype(np.float32),
@@ -280,8 +281,6 @@ def compare(frame, reference) -> dict:
         ``island_normal_p90``.
     """
     if frame.shape != reference.shape:
-        from .errors import SunsetError
-
         raise SunsetError(f"frame must have the reference's shape {reference.shape}, got {frame.shape}")
     same = frame.surface == reference.surface
     out = {"agree": float(np.mean(same)),

@@ -18,8 +18,8 @@ RADIANS_PER_HOUR = 2.0 * math.pi / 24.0
 #: The sun's true angular radius, about 0.267°, in radians.
 SUN_TRUE_RADIUS = math.radians(0.2666)
 
-#: The paper's enlarged sun radius δ ("about .75" degrees), in radians.
-SUN_PAPER_RADIUS = math.radians(0.75)
+#: The paper's enlarged sun radius δ ("about .75" degrees), in degrees: the default of a Sun.
+SUN_PAPER_RADIUS_DEGREES = 0.75
 
 #: Image size printed in the paper for Figures 6 and 7: width × height pixels.
 PAPER_WIDTH = 1020
@@ -27,9 +27,6 @@ PAPER_HEIGHT = 1023
 
 #: Cray-1 computation time for one Figure 6 frame, seconds.
 CRAY1_SECONDS_FIGURE6 = 34.0
-
-#: Dicomed D-48 plotting time for the three colour passes, seconds.
-DICOMED_SECONDS = 5 * 60.0
 
 #: The paper's projected sample spacing σ (text: "σ = 1/4"), in pixels.
 PAPER_SIGMA = 0.25
@@ -49,7 +46,6 @@ PART_NONE = 0
 PART_BEACH = 1
 PART_CLIFF = 2
 PART_HILL = 3
-PART_NAMES = {PART_NONE: "none", PART_BEACH: "beach", PART_CLIFF: "cliff", PART_HILL: "hill"}
 
 # ---------------------------------------------------------------------------
 # Colour codes, colour tables and the film (sunset/codes.py, sunset/dicomed.py,

@@ -7,7 +7,6 @@ single line and exits with status 2, with no traceback.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -46,7 +45,3 @@ def require_int_range(name: str, value: Any, lo: int, hi: int | None = None) -> 
         span = f">= {lo}" if hi is None else f"in {lo}..{hi}"
         raise SunsetError(f"{name} must be {span}, got {value!r}")
 
-
-def is_close(a: float, b: float, tol: float = 1e-9) -> bool:
-    """Relative-or-absolute closeness used by validators."""
-    return math.isclose(a, b, rel_tol=tol, abs_tol=tol)

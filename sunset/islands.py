@@ -211,17 +211,27 @@ class Island:
     def cliff_equation(self, x, y):
         """Q_k(x, y) = P_k + Σ_j a_jk cos(ℓ_jk x + m_jk y) (eq. 4), metres."""
         x, y = _xy(x, y)
-        q = self.cliff.value(x - self.x, y - self.y)
-        for c in self.cosines:
-            q = q + c.amplitude * np.cos(c.l * x + c.m * y)
-        return q
+        return self._cliff_value(x, y, self._phases(x, y))
 
     def cliff_equation_gradient(self, x, y):
         """(∂Q/∂x, ∂Q/∂y) of eq. 4."""
         x, y = _xy(x, y)
+        return self._cliff_gradient(x, y, self._phases(x, y))
+
+    def _phases(self, x, y) -> list:
+        """ℓ_jk x + m_jk y of each cosine term."""
+        return [c.l * x + c.m * y for c in self.cosines]
+
+    def _cliff_value(self, x, y, phases):
+        q = self.cliff.value(x - self.x, y - self.y)
+        for c, ph in zip(self.cosines, phases):
+            q = q + c.amplitude * np.cos(ph)
+        return q
+
+    def _cliff_gradient(self, x, y, phases):
         qx, qy = self.cliff.gradient(x - self.x, y - self.y)
-        for c in self.cosines:
-            sn = c.amplitude * np.sin(c.l * x + c.m * y)
+        for c, ph in zip(self.cosines, phases):
+            sn = c.amplitude * np.sin(ph)
             qx = qx - c.l * sn
             qy = qy - c.m * sn
         return qx, qy
@@ -250,28 +260,20 @@ class Island:
             ∂H/∂x, ∂H/∂y (only when ``with_gradient``).
         """
         x, y = _xy(x, y)
-        dx = x - self.x
-        dy = y - self.y
-        q = self.cliff.value(dx, dy)
-        phases = [c.l * x + c.m * y for c in self.cosines]
-        for c, ph in zip(self.cosines, phases):
-            q = q + c.amplitude * np.cos(ph)
+        phases = self._phases(x, y)
+        q = self._cliff_value(x, y, phases)
         ct, phi = self.cliff_top, self.hill_factor
         hill = q > ct
         upper = np.where(hill, ct + phi * (q - ct), q)
-        beach = self.beach.value(dx, dy)
+        beach = self.beach.value(x - self.x, y - self.y)
         on_beach = beach >= upper
         height = np.where(on_beach, beach, upper)
         part = np.where(on_beach, PART_BEACH, np.where(hill, PART_HILL, PART_CLIFF)).astype(np.int8)
         if not with_gradient:
             return height, part
-        qx, qy = self.cliff.gradient(dx, dy)
-        for c, ph in zip(self.cosines, phases):
-            sn = c.amplitude * np.sin(ph)
-            qx = qx - c.l * sn
-            qy = qy - c.m * sn
+        qx, qy = self._cliff_gradient(x, y, phases)
         scale = np.where(hill, phi, 1.0).astype(np.result_type(qx), copy=False)
-        bx, by = self.beach.gradient(dx, dy)
+        bx, by = self.beach.gradient(x - self.x, y - self.y)
         gx = np.where(on_beach, bx, scale * qx)
         gy = np.where(on_beach, by, scale * qy)
         return height, part, gx, gy

@@ -72,7 +72,7 @@ from .constants import (
     STOKES_NEWTON_TOLERANCE,
     STOKES_TAIL_TOLERANCE,
 )
-from .errors import SunsetError, require_finite, require_int_range
+from .errors import SunsetError, require_finite, require_int_range, require_nonnegative
 
 __all__ = [
     "stokes_coefficients", "series_speed", "series_crest_curvature",
@@ -82,11 +82,8 @@ __all__ = [
 
 # --------------------------------------------------------------------------- the paper's expansion
 def _check_alpha(alpha) -> np.ndarray:
-    require_finite("alpha", alpha)
-    a = np.asarray(alpha, dtype=float)
-    if np.any(a < 0):
-        raise SunsetError(f"alpha must not be negative, got {alpha!r}")
-    return a
+    require_nonnegative("alpha", alpha)
+    return np.asarray(alpha, dtype=float)
 
 
 def stokes_coefficients(alpha, order: int = 4) -> np.ndarray:
@@ -459,10 +456,8 @@ def solve_stokes(steepness: float, n_modes: int | None = None, map_parameter: fl
         bad ``n_modes`` or ``map_parameter``, or when the solver cannot
         converge (very close to the highest wave).
     """
-    require_finite("steepness", steepness)
+    require_nonnegative("steepness", steepness)
     s = float(steepness)
-    if s < 0:
-        raise SunsetError(f"steepness must not be negative, got {steepness!r}")
     if s > STOKES_MAX_STEEPNESS:
         raise SunsetError(f"steepness must be at most {STOKES_MAX_STEEPNESS} (H/λ of the highest "
                           f"Stokes wave on deep water), got {steepness!r}")

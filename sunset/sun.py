@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import RADIANS_PER_HOUR
+from .constants import RADIANS_PER_HOUR, SUN_PAPER_RADIUS_DEGREES
 from .errors import SunsetError, require_finite, require_positive
 
 
@@ -38,7 +38,7 @@ class Sun:
 
     azimuth: float = 0.0
     tilt: float = 45.0
-    radius: float = 0.75
+    radius: float = SUN_PAPER_RADIUS_DEGREES
 
     def __post_init__(self):
         require_finite("azimuth", self.azimuth)

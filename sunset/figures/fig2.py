@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import SunsetError, require_finite
+from ..errors import SunsetError, require_finite, require_positive
 from ..io import check_writable, save_matplotlib
 
 #: α = k a₁ of the left panel (the paper's Figure 2 does not say which α it drew).
@@ -59,9 +59,7 @@ def figure2(path, alpha: float = FIG2_ALPHA, steepness: float = FIG2_STEEPNESS, 
     require_finite("alpha", alpha)
     if not 0.0 < float(alpha) <= 0.5:
         raise SunsetError(f"alpha must be in (0, 0.5], got {alpha!r}")
-    require_finite("steepness", steepness)
-    if not float(steepness) > 0.0:
-        raise SunsetError(f"steepness must be positive, got {steepness!r}")
+    require_positive("steepness", steepness)
     path = check_writable(path)
 
     from matplotlib.figure import Figure
