@@ -15,18 +15,10 @@ import numpy as np
 
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..io import save_matplotlib
-from .diagnostic import prepare
+from .diagnostic import CLASS_COLOURS, prepare
 
 #: Default size of each map, pixels (width, height): small, these are diagnostics.
 DEFAULT_SIZE = (256, 256)
-
-#: Colours of the final-surface classes: sky, beach, cliff, hill (RGB in 0..1).
-CLASS_COLOURS = {
-    "sky": (0.62, 0.78, 0.95),
-    "beach": (0.86, 0.74, 0.52),
-    "cliff": (0.55, 0.35, 0.20),
-    "hill": (0.30, 0.58, 0.25),
-}
 
 #: Colours of 0, 1 and 2 water reflections.
 BOUNCE_COLOURS = ((0.80, 0.80, 0.80), (0.25, 0.45, 0.85), (0.90, 0.30, 0.20))
@@ -58,20 +50,7 @@ def final_rz_image(frame) -> np.ma.MaskedArray:
 def reflection_modes(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: float = 0.0) -> Path:
     """Render ``scene`` (default: the default scene) in each reflection mode and write the maps.
 
-    Parameters
-    ----------
-    path : path-like
-        The PNG to write (atomically).
-    size : (int, int)
-        (width, height) of each map in pixels.
-    scene : Scene, optional
-    t : float
-        Time, seconds.
-
-    Returns
-    -------
-    Path
-        ``path``.
+    Parameters and return value as :func:`sunset.figures.diagnostic.diagnostic`.
     """
     from matplotlib.figure import Figure
 
