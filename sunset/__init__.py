@@ -10,18 +10,18 @@ The public API, in the order of the paper's pipeline::
     wave = sunset.solve_stokes(0.12)          # an exact Stokes wave, H/λ = 0.12
 """
 
-from .camera import Camera
-from .codes import encode
-from .dicomed import expose
+from .model.camera import Camera
+from .tape.codes import encode
+from .recorder.dicomed import expose
 from .errors import SunsetError
-from .film import make_film
-from .frame import Frame
-from .islands import Cosine, Island, Paraboloid
-from .scene import Scene, default_scene
-from .render import render
-from .stokes import solve_stokes
-from .sun import Sun
-from .waves import Sea, WaveTrain
+from .recorder.film import make_film
+from .vector.frame import Frame
+from .model.islands import Cosine, Island, Paraboloid
+from .model.scene import Scene, default_scene
+from .vector.render import render
+from .model.stokes_exact import solve_stokes
+from .model.sun import Sun
+from .model.waves import Sea, WaveTrain
 
 __version__ = "0.1.0"
 

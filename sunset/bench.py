@@ -67,10 +67,10 @@ def _timed(fn, repeats: int):
 
 def _frame_once(scene, t: float = 0.0) -> dict:
     """One Figure 6 frame, stage by stage: seconds per stage (see :data:`STAGES`)."""
-    from .codes import encode
-    from .dicomed import expose
-    from .heightfield import trace_direct
-    from .pierce import trace_reflections
+    from .tape.codes import encode
+    from .recorder.dicomed import expose
+    from .vector.direct import trace_direct
+    from .vector.reflect import trace_reflections
 
     info: dict = {}
     t0 = time.perf_counter()
@@ -93,7 +93,7 @@ def _frame_once(scene, t: float = 0.0) -> dict:
 
 def _measure_frame(width: int, height: int, repeats: int) -> dict:
     """Time a Figure 6 frame (two reflections, default scene), stage by stage."""
-    from .scene import Scene
+    from .model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     _frame_once(scene)  # warm-up (and the compiled kernels' load)
@@ -102,8 +102,8 @@ def _measure_frame(width: int, height: int, repeats: int) -> dict:
 
 
 def _measure_brute(width: int, height: int, repeats: int) -> dict:
-    from .bruteforce import trace_direct_bruteforce
-    from .scene import Scene
+    from .vector.bruteforce import trace_direct_bruteforce
+    from .model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     return {"total": _timed(lambda: trace_direct_bruteforce(scene, 0.0), repeats)}
@@ -113,8 +113,8 @@ def _measure_cycle(width: int, height: int, repeats: int, frames: int = CYCLE_FR
     """A wave cycle coded (both cores) and filmed: the two steps and their sum."""
     import tempfile
 
-    from .film import render_cycle, write_film
-    from .scene import Scene
+    from .recorder.film import render_cycle, write_film
+    from .model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     out = {"coded": [], "filmed": [], "total": []}
@@ -133,15 +133,15 @@ def _measure_cycle(width: int, height: int, repeats: int, frames: int = CYCLE_FR
 
 def _vector_stage_seconds(scene, repeats: int) -> float:
     """Median seconds of render + encode (the vector stage) for one scene, after a warm-up."""
-    from .codes import encode
-    from .render import render
+    from .tape.codes import encode
+    from .vector.render import render
 
     return statistics.median(_timed(lambda: encode(scene, render(scene, 0.0, 2)), repeats))
 
 
 def _scaled_sea(sea, count: int):
     """A sea of ``count`` trains: the default's, then shorter ones (λ/n², so it stays periodic)."""
-    from .waves import Sea, WaveTrain
+    from .model.waves import Sea, WaveTrain
 
     base = list(sea.trains)
     trains = base[:count]
@@ -168,14 +168,14 @@ def _scaled_islands(islands, count: int):
 
 def _measure_scaling(width: int, height: int, repeats: int) -> dict:
     """Vector-stage seconds against picture size, wave trains and islands (small repeats)."""
-    from .scene import Scene
+    from .model.scene import Scene
 
     base = Scene.default()
     sizes = [s for s in SCALING_SIZES if s <= max(width, height)]
     out = {"size": {"n": sizes, "seconds": [], "sea_samples": [], "island_samples": []},
            "trains": {"n": list(SCALING_TRAINS), "seconds": []},
            "islands": {"n": list(SCALING_ISLANDS), "seconds": []}, "size_for_counts": SCALING_SIZE}
-    from .heightfield import trace_direct
+    from .vector.direct import trace_direct
 
     for n in sizes:
         sc = base.with_size(n, n)
@@ -198,7 +198,7 @@ def _measure_profile(width: int, height: int, repeats: int) -> dict:
     import cProfile
     import pstats
 
-    from .scene import Scene
+    from .model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     _frame_once(scene)
@@ -235,9 +235,9 @@ MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _meas
 
 def _child(args) -> None:
     result = MEASUREMENTS[args.measure](args.width, args.height, args.repeats)
-    from . import compiled
+    from . import kernels
 
-    print(json.dumps({"times": result, **_peak(), "compiled": compiled.enabled()}))
+    print(json.dumps({"times": result, **_peak(), "compiled": kernels.enabled()}))
 
 
 def _peak() -> dict:

@@ -92,7 +92,7 @@ def _seed(text: str) -> int:
 
 
 def _load_scene(arg: str):
-    from .scene import Scene, load_named_scene
+    from .model.scene import Scene, load_named_scene
 
     path = Path(arg)
     if not path.exists() and "/" not in arg and not arg.endswith(".toml"):
@@ -169,7 +169,7 @@ def _cmd_render(args) -> None:
         check_writable(args.tape)
     scene = _load_scene(args.scene)
     from .figures.paper import expose_png, render_tape
-    from .tape import write_tape
+    from .tape.tapefile import write_tape
 
     if args.size:
         scene = scene.with_size(*args.size)
@@ -184,7 +184,7 @@ def _cmd_render(args) -> None:
 def _cmd_expose(args) -> None:
     from .figures.paper import expose_png
     from .io import PNG_SUFFIXES, check_writable
-    from .tape import read_tape
+    from .tape.tapefile import read_tape
 
     check_writable(args.output, PNG_SUFFIXES)
     tape = read_tape(args.tape)
@@ -192,7 +192,7 @@ def _cmd_expose(args) -> None:
 
 
 def _cmd_film(args) -> None:
-    from .film import make_film
+    from .recorder.film import make_film
 
     scene = _load_scene(args.scene)
     if args.size:
@@ -203,7 +203,7 @@ def _cmd_film(args) -> None:
 
 
 def _cmd_scene(args) -> None:
-    from .scene import Scene
+    from .model.scene import Scene
 
     sys.stdout.write(Scene.default().to_toml())
 

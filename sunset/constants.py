@@ -48,10 +48,10 @@ PART_CLIFF = 2
 PART_HILL = 3
 
 # ---------------------------------------------------------------------------
-# Colour codes, colour tables and the film (sunset/codes.py, sunset/dicomed.py,
-# sunset/tape.py, sunset/film.py). Appended by the colour-codes helper.
+# Colour codes, colour tables and the film (sunset/tape/codes.py, sunset/recorder/dicomed.py,
+# sunset/tape/tapefile.py, sunset/recorder/film.py). Appended by the colour-codes helper.
 
-#: Codes per group of the 8-bit code map (sunset/codes.py); they sum to N_CODES.
+#: Codes per group of the 8-bit code map (sunset/tape/codes.py); they sum to N_CODES.
 #: Islands: green hill, brown cliff, tan beach (each a full turn of the
 #: sun-plane angle ψ, see codes.rho_hat); sky by the final ray's z component;
 #: the sun's track (|W·R| < sin δ) and the band beside it (sin δ <= |W·R| < sin 3δ),
@@ -147,7 +147,7 @@ ISLAND_NORMAL_SAMPLES = 12
 #: Sub-samples per pixel side for the sun disk's anti-aliased rim.
 SUN_SUPERSAMPLE = 16
 
-#: Format version of tape files written by sunset/tape.py.
+#: Format version of tape files written by sunset/tape/tapefile.py.
 TAPE_FORMAT_VERSION = 1
 
 #: Film defaults: frames per second and hours before sunset at the start/end.
@@ -155,7 +155,7 @@ FILM_FPS = 24
 FILM_FROM_HOURS = 1.5
 FILM_TO_HOURS = -0.25
 
-# --- height field and islands (sunset/heightfield.py, sunset/islands.py) -----
+# --- height field and islands (sunset/vector/heightfield.py, sunset/model/islands.py) -----
 
 #: Near clipping plane of the direct rays, as a fraction of the distance
 #: h/|ζ| at which a ray at the steepest picture angle meets mean sea level.
@@ -164,7 +164,7 @@ FILM_TO_HOURS = -0.25
 NEAR_PLANE_FRACTION = 0.25
 
 #: Samples (scan lines × samples) the vectorized scan line holds at once:
-#: the memory bound of sunset.heightfield (about 4 MB per float32 array).
+#: the memory bound of sunset.vector.heightfield (about 4 MB per float32 array).
 SCANLINE_CHUNK_ELEMENTS = 1 << 20
 
 #: Most refinement steps of the island lattice per sea sample (σ/m).
@@ -176,10 +176,10 @@ ISLAND_MAX_REFINEMENT = 4096
 ISLAND_SAMPLE_BUDGET = 4
 
 #: Samples across an island's widest chord in the probe pass that chooses
-#: the island lattice's refinement m (sunset.heightfield).
+#: the island lattice's refinement m (sunset.vector.heightfield).
 ISLAND_PROBE_SAMPLES = 64
 
-# --- Stokes waves (sunset/stokes.py). Appended by the waves-and-Stokes helper.
+# --- Stokes waves (sunset/model/stokes.py). Appended by the waves-and-Stokes helper.
 
 #: Largest step in k·H (wave height times wave number) between two solutions
 #: of the continuation that leads the exact solver from a small wave to the
@@ -207,8 +207,8 @@ STOKES_COARSE_MODES = 64
 #: L = min(1, STOKES_MAP_FACTOR * sqrt(STOKES_MAX_STEEPNESS - H/λ)).
 STOKES_MAP_FACTOR = 1.5
 
-# --- Limits on what a scene or a command may ask for (sunset/camera.py,
-# sunset/waves.py, sunset/scene.py, sunset/cli.py). Beyond them a request is
+# --- Limits on what a scene or a command may ask for (sunset/model/camera.py,
+# sunset/model/waves.py, sunset/model/scene.py, sunset/cli.py). Beyond them a request is
 # refused with one error line instead of running out of memory or producing
 # a picture the model cannot make.
 

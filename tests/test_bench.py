@@ -13,7 +13,7 @@ import pytest
 
 from sunset import bench
 from sunset.constants import CRAY1_SECONDS_FIGURE6
-from sunset.scene import Scene
+from sunset.model.scene import Scene
 
 
 @pytest.fixture(scope="module")
@@ -93,7 +93,7 @@ def test_scaled_scenes_have_the_counts_asked_for():
         isl = bench._scaled_islands(base.islands, n)
         assert len(isl) == n and len({i.name for i in isl}) == n
     # a scene with more of both still renders (no overlap errors, finite values)
-    from sunset.render import render
+    from sunset.vector.render import render
 
     sc = Scene(camera=base.with_size(24, 20).camera, sun=base.sun, sea=bench._scaled_sea(base.sea, 6),
                islands=bench._scaled_islands(base.islands, 5))
@@ -102,7 +102,7 @@ def test_scaled_scenes_have_the_counts_asked_for():
 
 
 def test_profile_names_are_readable():
-    assert bench._function_name("/x/sunset/heightfield.py", "sea_profile") == "heightfield.py:sea_profile"
+    assert bench._function_name("/x/sunset/vector/heightfield.py", "sea_profile") == "heightfield.py:sea_profile"
     assert bench._function_name("~", "<method 'astype' of 'numpy.ndarray' objects>") == "numpy.ndarray.astype"
     assert bench._function_name("~", "<built-in method numpy.empty>") == "numpy.empty"
 

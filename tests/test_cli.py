@@ -9,7 +9,7 @@ import pytest
 from PIL import Image
 
 from sunset.cli import main
-from sunset.scene import Scene
+from sunset.model.scene import Scene
 
 SMALL = "48x40"
 

@@ -54,7 +54,7 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
         from .reflections import reflection_modes
         return [reflection_modes(out / "reflections.png", scene=scene)]
     if name == "film":
-        from ..film import make_film
+        from ..recorder.film import make_film
         return list(make_film(scene, out / "film.mp4", out / "film-preview.webp", frames=film_frames,
                               seed=seed, progress=progress))
     raise SunsetError(f"unknown figure {name!r}")  # pragma: no cover - parse_only guards
@@ -64,7 +64,7 @@ def make_figures(out: str | Path = "figures", only: str | None = None, size: tup
                  seed: int = 0, scene=None, progress: bool = True, log=print,
                  film_frames: int = 32) -> list[Path]:
     """Make the figures named by ``only`` (all by default) into ``out``."""
-    from ..scene import Scene
+    from ..model.scene import Scene
 
     names = parse_only(only)
     scene = Scene.default() if scene is None else scene

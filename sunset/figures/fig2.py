@@ -2,13 +2,13 @@
 
 Left, the paper's Figure 2 (lost in the OCR): the first four terms
 k a_n cos(n k x) of Stokes' series (eq. 2) with the paper's amplitudes
-(:func:`sunset.stokes.stokes_coefficients`) and their sum, whose crests are
+(:func:`sunset.model.stokes.stokes_coefficients`) and their sum, whose crests are
 sharper and troughs wider and shallower than a cosine's. Right, beyond the
 paper: at a large steepness H/λ the exact Stokes wave
-(:func:`sunset.stokes.solve_stokes`) beside the series truncated at orders 1,
+(:func:`sunset.model.stokes.solve_stokes`) beside the series truncated at orders 1,
 2 (what the paper put on its largest wave) and 4, all with the exact wave's
 first-harmonic slope α = k a₁; and the crest magnified, with the curvatures
-κ/k that the secondary reflections (sunset.pierce) take from the series.
+κ/k that the secondary reflections (sunset.vector.pierce) take from the series.
 """
 
 from __future__ import annotations
@@ -64,7 +64,8 @@ def figure2(path, alpha: float = FIG2_ALPHA, steepness: float = FIG2_STEEPNESS, 
 
     from matplotlib.figure import Figure
 
-    from ..stokes import series_crest_curvature, solve_stokes, stokes_coefficients
+    from ..model.stokes import series_crest_curvature, stokes_coefficients
+    from ..model.stokes_exact import solve_stokes
 
     wave = solve_stokes(float(steepness))  # raises SunsetError beyond the highest wave
     alpha = float(alpha)

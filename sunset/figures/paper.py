@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..dicomed import expose
+from ..recorder.dicomed import expose
 from ..errors import require_int_range
 from ..io import save_png
-from ..render import code_frame
-from ..scene import Scene
-from ..tape import Tape, read_tape, write_tape
+from ..tape.cycle import code_frame
+from ..model.scene import Scene
+from ..tape.tapefile import Tape, read_tape, write_tape
 
 #: Hours before sunset for the sunset figures (4, 5, 6) and for Figure 7.
 SUNSET_HOURS = 0.35

@@ -1,4 +1,4 @@
-"""Diagnostic maps of the three reflection modes (sunset/pierce.py).
+"""Diagnostic maps of the three reflection modes (sunset/vector/pierce.py).
 
 For each mode (0: straight to the sky, 1: one reflection with |R_z|, 2: two
 reflections) three maps of the same frame: what each ray finally meets (sky or
@@ -54,7 +54,7 @@ def reflection_modes(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: 
     """
     from matplotlib.figure import Figure
 
-    from ..render import render
+    from ..vector.render import render
 
     path, scene = prepare(path, size, scene)
     frames = {mode: render(scene, t, mode) for mode in (0, 1, 2)}

@@ -1,0 +1,273 @@
+"""A scene: the camera, the sea, the islands and the sun, loaded from TOML.
+
+A scene file has four parts, each checked on load::
+
+    [camera]          eye height, picture window, size, σ   (sunset.model.camera.Camera)
+    [sun]             the sun's great circle and δ           (sunset.model.sun.Sun)
+    [[sea.trains]]    the wave trains of eq. 1               (sunset.model.waves.WaveTrain)
+    [[islands]]       paraboloids and cosine hills, eqs. 3–4 (sunset.model.islands.Island)
+                      with [islands.cliff], [islands.beach], [[islands.cosines]]
+
+An unknown key, a missing field, a value of the wrong type, a NaN, a
+non-positive size, an island behind the eye or an eye below the sea raises a
+:class:`~sunset.errors.SunsetError` whose message names the field, such as
+``islands[2].cliff.e must be positive, got -0.01``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+import typing
+from dataclasses import dataclass, field, replace
+from importlib import resources
+from pathlib import Path
+
+from .camera import Camera
+from ..errors import SunsetError
+from .islands import Cosine, Island, Paraboloid
+from .sun import Sun
+from .waves import Sea, WaveTrain
+
+#: Name of the default scene shipped with the package.
+DEFAULT_SCENE = "carlas-island"
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Everything the vector stage needs to render a frame at time t."""
+
+    camera: Camera = field(default_factory=Camera)
+    sun: Sun = field(default_factory=Sun)
+    sea: Sea = field(default_factory=Sea)
+    islands: tuple[Island, ...] = field(default_factory=tuple)
+    title: str = ""
+
+    def __post_init__(self):
+        object.__setattr__(self, "islands", tuple(self.islands))
+        h = self.camera.eye_height
+        for k, island in enumerate(self.islands):
+            ground = float(island.height(0.0, 0.0))
+            if ground >= h:
+                raise SunsetError(f"islands[{k}] puts the eye inside it: its surface at the eye (x = y = 0) is "
+                                  f"{ground:.3g} m above the sea, the eye only {h:g} m")
+
+    # -- derived scenes -------------------------------------------------------
+    def still(self) -> "Scene":
+        """The same scene on perfectly still water (Figure 4)."""
+        return replace(self, sea=Sea(()))
+
+    def with_size(self, width: int, height: int) -> "Scene":
+        """The same scene rendered at another pixel size."""
+        return replace(self, camera=self.camera.with_size(width, height))
+
+    # -- TOML -----------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, data: dict) -> "Scene":
+        """Build and validate a scene from the parsed TOML tables."""
+        return _build(cls, data, "")
+
+    def to_dict(self) -> dict:
+        """The scene as TOML-ready tables (inverse of :meth:`from_dict`)."""
+        return _unbuild(self)
+
+    @classmethod
+    def from_toml(cls, path_or_text: str | Path) -> "Scene":
+        """Load a scene from a TOML file (a path) or TOML text.
+
+        Raises :class:`SunsetError` naming the file and the field for any
+        malformed or invalid content.
+        """
+        if isinstance(path_or_text, Path) or ("\n" not in str(path_or_text) and "=" not in str(path_or_text)):
+            path = Path(path_or_text)
+            if path.is_dir():
+                raise SunsetError(f"{path}: is a directory, not a scene file")
+            if path.exists() and not path.is_file():
+                raise SunsetError(f"{path}: not a regular file (a device or a pipe), not a scene file")
+            try:
+                text = path.read_text(encoding="utf-8")
+            except FileNotFoundError:
+                raise SunsetError(f"{path}: no such scene file") from None
+            except (OSError, UnicodeDecodeError) as exc:
+                raise SunsetError(f"{path}: cannot read scene file ({exc})") from None
+            where = f"{path}: "
+        else:
+            text, where = str(path_or_text), ""
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise SunsetError(f"{where}malformed TOML ({exc})") from None
+        try:
+            return cls.from_dict(data)
+        except SunsetError as exc:
+            raise SunsetError(f"{where}{exc}") from None
+
+    def to_toml(self) -> str:
+        """The scene as TOML text; ``Scene.from_toml(s.to_toml()) == s`` exactly."""
+        return _dump_toml(self.to_dict())
+
+    @classmethod
+    def default(cls) -> "Scene":
+        """The default scene, ``sunset/scenes/carlas-island.toml``."""
+        return load_named_scene(DEFAULT_SCENE)
+
+
+def load_named_scene(name: str) -> Scene:
+    """Load a scene shipped in ``sunset/scenes/`` by name (without .toml)."""
+    ref = resources.files("sunset") / "scenes" / f"{name}.toml"
+    if not ref.is_file():
+        raise SunsetError(f"no scene named {name!r} in the package")
+    return Scene.from_toml(ref.read_text(encoding="utf-8"))
+
+
+def default_scene() -> Scene:
+    """The default scene (Carla's Island)."""
+    return Scene.default()
+
+
+# ----------------------------------------------------------------------------
+# Generic validated loading of the frozen dataclasses above.
+
+_NESTED = {
+    Scene: {"camera": Camera, "sun": Sun, "sea": Sea, "islands": Island},
+    Sea: {"trains": WaveTrain},
+    Island: {"cliff": Paraboloid, "beach": Paraboloid, "cosines": Cosine},
+}
+
+
+def _field_types(cls) -> dict[str, typing.Any]:
+    hints = typing.get_type_hints(cls)
+    return {f.name: hints[f.name] for f in dataclasses.fields(cls)}
+
+
+#: Fields a scene file may leave out (they take their defaults); every other
+#: field must be written out, so that a scene file says what it renders.
+_OPTIONAL = {
+    (Scene, "title"), (Scene, "sea"), (Scene, "islands"), (Sea, "trains"),
+    (WaveTrain, "phase"), (WaveTrain, "stokes_order"), (Island, "name"), (Island, "cosines"),
+}
+
+
+def _required(cls, f: dataclasses.Field) -> bool:
+    return (cls, f.name) not in _OPTIONAL
+
+
+def _join(path: str, name: str) -> str:
+    return f"{path}.{name}" if path else name
+
+
+def _convert(value, typ, where: str):
+    if typ is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise SunsetError(f"{where} must be a number, got {value!r}")
+        if isinstance(value, float) and math.isnan(value):
+            raise SunsetError(f"{where} must be a finite number, got nan")
+        return float(value)
+    if typ is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise SunsetError(f"{where} must be an integer, got {value!r}")
+        return value
+    if typ is str:
+        if not isinstance(value, str):
+            raise SunsetError(f"{where} must be a string, got {value!r}")
+        return value
+    raise TypeError(f"unsupported field type {typ!r}")  # pragma: no cover - programming error
+
+
+def _build(cls, data, path: str):
+    if not isinstance(data, dict):
+        raise SunsetError(f"{path or 'scene'} must be a table, got {data!r}")
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    unknown = sorted(set(data) - set(fields))
+    if unknown:
+        raise SunsetError(f"unknown key {_join(path, unknown[0])!r}" + (f" (expected one of: {', '.join(fields)})"))
+    nested = _NESTED.get(cls, {})
+    types = _field_types(cls)
+    kwargs = {}
+    for name, f in fields.items():
+        where = _join(path, name)
+        if name not in data:
+            if _required(cls, f):
+                raise SunsetError(f"missing field {where!r}")
+            continue
+        value = data[name]
+        if name in nested:
+            sub = nested[name]
+            origin = typing.get_origin(types[name])
+            if origin is tuple:
+                if not isinstance(value, list):
+                    raise SunsetError(f"{where} must be an array of tables")
+                kwargs[name] = tuple(_build(sub, v, f"{where}[{i}]") for i, v in enumerate(value))
+            else:
+                kwargs[name] = _build(sub, value, where)
+        else:
+            kwargs[name] = _convert(value, types[name], where)
+    try:
+        return cls(**kwargs)
+    except SunsetError as exc:
+        msg = str(exc)
+        head = msg.split(" ", 1)[0]
+        if head.split("[", 1)[0] in fields:
+            raise SunsetError(f"{_join(path, head)} {msg.split(' ', 1)[1]}") from None
+        raise SunsetError(f"{path or 'scene'}: {msg}") from None
+
+
+def _unbuild(obj):
+    if dataclasses.is_dataclass(obj):
+        out = {}
+        for f in dataclasses.fields(obj):
+            v = getattr(obj, f.name)
+            if isinstance(v, tuple):
+                out[f.name] = [_unbuild(x) for x in v]
+            else:
+                out[f.name] = _unbuild(v)
+        return out
+    return obj
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, str):
+        # TOML basic strings: escape \\ and ", and every control character
+        # (U+0000..U+001F, U+007F), which TOML does not allow raw.
+        out = v.replace("\\", "\\\\").replace('"', '\\"')
+        out = "".join(f"\\u{ord(c):04X}" if ord(c) < 0x20 or ord(c) == 0x7F else c for c in out)
+        return '"' + out + '"'
+    raise TypeError(f"cannot write {v!r} to TOML")  # pragma: no cover
+
+
+def _dump_table(table: dict, header: str, array: bool, lines: list[str]) -> None:
+    scalars = {k: v for k, v in table.items() if not isinstance(v, (dict, list))}
+    lines.append(f"[[{header}]]" if array else f"[{header}]")
+    for k, v in scalars.items():
+        lines.append(f"{k} = {_toml_value(v)}")
+    lines.append("")
+    for k, v in table.items():
+        if isinstance(v, dict):
+            _dump_table(v, f"{header}.{k}", False, lines)
+        elif isinstance(v, list):
+            for item in v:
+                _dump_table(item, f"{header}.{k}", True, lines)
+
+
+def _dump_toml(data: dict) -> str:
+    lines = []
+    for k, v in data.items():
+        if not isinstance(v, (dict, list)):
+            lines.append(f"{k} = {_toml_value(v)}")
+    lines.append("")
+    for k, v in data.items():
+        if isinstance(v, dict):
+            _dump_table(v, k, False, lines)
+        elif isinstance(v, list):
+            for item in v:
+                _dump_table(item, k, True, lines)
+    return "\n".join(lines).rstrip() + "\n"

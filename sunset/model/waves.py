@@ -1,0 +1,296 @@
+"""Waves on deep water: wave trains, the periodic sea and eq. 1.
+
+A wave train is a long-crested travelling cosine
+
+    z = a cos θ,   θ = ℓx + my − ωt + φ,   ℓ² + m² = k²,   ω = √(g k)
+
+(deep-water dispersion: the phase speed is c = ω/k = √(g/k)). The sea is
+their sum about the mean level (eq. 1, without the −h, which belongs to the
+camera). A train may carry Stokes harmonics n = 2..4 (eq. 2):
+a_n cos nθ, which travel with the train, so that harmonic n has frequency nω.
+
+For a film loop (paper, after eq. 1) every ω_j must be a multiple of one
+fundamental ω₁; since ω ∝ √k, the wavelengths must be λ, λ/4, λ/9, λ/16, …
+(:meth:`Sea.periodic`), and then the sea repeats after T = 2π/ω₁
+(:attr:`Sea.period`).
+
+The surface and its gradient are evaluated in float64 whatever the input
+dtype (a float32 phase ℓx + my is off by about 1e-7 of its size: 5e-5 rad for
+a 2.5 m wave 300 m away, 7e-3 rad 40 km away, near the horizon) and returned
+in the inputs' floating dtype. The harmonics cos nθ
+and sin nθ come from one cos θ and one sin θ by the angle-addition recurrence,
+the paper's remark that the first few terms of eq. 2 can be had "so that the
+cosine need only be computed once".
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import numpy as np
+
+from ..constants import GRAVITY, MIN_WAVELENGTH
+from ..errors import SunsetError, require_finite, require_int_range, require_nonnegative, require_positive
+from .stokes import stokes_coefficients
+
+#: Largest denominator accepted when :attr:`Sea.period` looks for the rational
+#: ratios ω_j/ω_min of a repeating sea.
+PERIOD_MAX_DENOMINATOR = 64
+
+
+@dataclass(frozen=True)
+class WaveTrain:
+    """One long-crested train of deep-water gravity waves.
+
+    Parameters
+    ----------
+    amplitude : float
+        a, amplitude of the first harmonic, metres (>= 0).
+    wavelength : float
+        λ, metres (> 0); wave number k = 2π/λ.
+    direction : float
+        Direction of travel, degrees, measured from +x toward +y (90° travels
+        straight away from the eye, 270° toward it).
+    phase : float
+        φ, radians, added to the phase ℓx + my − ωt.
+    stokes_order : int
+        1 for a pure cosine; 2..4 adds the paper's Stokes harmonics up to that
+        order (the paper used 2 on its largest wave).
+    """
+
+    amplitude: float
+    wavelength: float
+    direction: float = 90.0
+    phase: float = 0.0
+    stokes_order: int = 1
+
+    def __post_init__(self):
+        require_nonnegative("amplitude", self.amplitude)
+        require_positive("wavelength", self.wavelength)
+        if self.wavelength < MIN_WAVELENGTH:
+            raise SunsetError(f"wavelength must be at least {MIN_WAVELENGTH:g} m (shorter ripples are "
+                              f"capillary waves, outside deep-water gravity dispersion), got {self.wavelength!r}")
+        require_finite("direction", self.direction)
+        require_finite("phase", self.phase)
+        require_int_range("stokes_order", self.stokes_order, 1, 4)
+
+    @property
+    def k(self) -> float:
+        """Wave number k = 2π/λ, rad m⁻¹."""
+        return 2.0 * math.pi / self.wavelength
+
+    @property
+    def wave_vector(self) -> tuple[float, float]:
+        """(ℓ, m) = k (cos direction, sin direction), rad m⁻¹."""
+        d = math.radians(self.direction)
+        return self.k * math.cos(d), self.k * math.sin(d)
+
+    @property
+    def omega(self) -> float:
+        """Angular frequency ω = √(g k) (deep-water dispersion), rad s⁻¹."""
+        return math.sqrt(GRAVITY * self.k)
+
+    @property
+    def speed(self) -> float:
+        """Phase speed c = ω/k = √(g/k) = √(gλ/2π), m s⁻¹ (linear theory, as in the paper)."""
+        return self.omega / self.k
+
+    @property
+    def period(self) -> float:
+        """Wave period 2π/ω = √(2πλ/g), seconds."""
+        return 2.0 * math.pi / self.omega
+
+    @property
+    def steepness(self) -> float:
+        """α = k·a, the maximum slope of the first harmonic (the paper's α)."""
+        return self.k * self.amplitude
+
+    def harmonic_amplitudes(self) -> np.ndarray:
+        """Amplitudes a_n of harmonics n = 1..stokes_order, metres (eq. 2).
+
+        a_n = (k a_n)/k with k a_n from :func:`sunset.model.stokes.stokes_coefficients`
+        at α = k·a. The returned array is read-only (it is computed once).
+        """
+        return self._amplitudes
+
+    @functools.cached_property
+    def _amplitudes(self) -> np.ndarray:
+        amps = stokes_coefficients(self.steepness, self.stokes_order) / self.k
+        amps.flags.writeable = False
+        return amps
+
+    @property
+    def max_elevation(self) -> float:
+        """Σ_n |a_n|: the most this train can raise or lower the sea, metres."""
+        return float(np.sum(np.abs(self.harmonic_amplitudes())))
+
+
+def unit_normal(fx, fy) -> np.ndarray:
+    """The unit upward normal of a height field z = f(x, y) from its gradient, shape (..., 3).
+
+    The paper's normal formula: z̄ = 1/√(f_x² + f_y² + 1), x̄ = −z̄ f_x,
+    ȳ = −z̄ f_y; used for the sea, the islands and the wrinkle normals alike.
+    """
+    zb = 1.0 / np.sqrt(fx * fx + fy * fy + 1.0)
+    return np.stack([-zb * fx, -zb * fy, zb], axis=-1)
+
+
+def _as_arrays(x, y, t):
+    """x, y, t as float64 arrays, and the dtype of the result.
+
+    The result takes the floating dtype of those of ``x`` and ``y`` that are
+    NumPy floating arrays or scalars (float32 in, float32 out); Python numbers,
+    integers and ``t`` do not count, and float64 is the default.
+    """
+    arrays, dtypes = [], []
+    for i, v in enumerate((x, y, t)):
+        a = np.asarray(v)
+        if a.dtype.kind not in "iuf":
+            raise SunsetError(f"{'xyt'[i]} must be real numbers, got dtype {a.dtype}")
+        if i < 2 and isinstance(v, (np.ndarray, np.generic)) and a.dtype.kind == "f":
+            dtypes.append(a.dtype)
+        arrays.append(a.astype(np.float64, copy=False))
+    return arrays, (np.result_type(*dtypes) if dtypes else np.dtype(np.float64))
+
+
+def _harmonics(theta: np.ndarray, n_max: int):
+    """Yield (n, cos nθ, sin nθ) for n = 1..n_max from one cos θ and one sin θ."""
+    c1, s1 = np.cos(theta), np.sin(theta)
+    cn, sn = c1, s1
+    yield 1, cn, sn
+    for n in range(2, n_max + 1):
+        cn, sn = cn * c1 - sn * s1, sn * c1 + cn * s1
+        yield n, cn, sn
+
+
+@dataclass(frozen=True)
+class Sea:
+    """A sum of wave trains about mean sea level (eq. 1 without −h)."""
+
+    trains: tuple[WaveTrain, ...] = field(default_factory=tuple)
+
+    def __post_init__(self):
+        trains = tuple(self.trains)
+        for i, t in enumerate(trains):
+            if not isinstance(t, WaveTrain):
+                raise SunsetError(f"trains[{i}] must be a WaveTrain, got {t!r}")
+        object.__setattr__(self, "trains", trains)
+
+    @classmethod
+    def periodic(cls, wavelength: float, amplitudes, directions, phases=None, stokes_orders=None,
+                 harmonics=None) -> "Sea":
+        """A sea whose trains have wavelengths λ/n², so every ω is n ω₁.
+
+        Since ω = √(g k) and k = 2π n²/λ, train n has ω_n = n ω₁ exactly, and
+        the sea repeats after T = 2π/ω₁ = √(2πλ/g) (paper, after eq. 1).
+
+        Parameters
+        ----------
+        wavelength : float
+            λ of the fundamental, metres.
+        amplitudes, directions : sequence of float
+            One per train: metres, degrees.
+        phases : sequence of float, optional
+            Radians; zeros by default.
+        stokes_orders : sequence of int, optional
+            Ones by default.
+        harmonics : sequence of int, optional
+            n >= 1 for each train; 1, 2, 3, … by default, giving λ, λ/4, λ/9, ….
+        """
+        require_positive("wavelength", wavelength)
+        n_trains = len(amplitudes)
+        phases = [0.0] * n_trains if phases is None else list(phases)
+        stokes_orders = [1] * n_trains if stokes_orders is None else list(stokes_orders)
+        harmonics = list(range(1, n_trains + 1)) if harmonics is None else list(harmonics)
+        if not (len(directions) == len(phases) == len(stokes_orders) == len(harmonics) == n_trains):
+            raise SunsetError("amplitudes, directions, phases, stokes_orders and harmonics must have one entry per train")
+        for i, n in enumerate(harmonics):
+            require_int_range(f"harmonics[{i}]", n, 1)
+        return cls(tuple(
+            WaveTrain(a, wavelength / n**2, d, p, s)
+            for a, d, p, s, n in zip(amplitudes, directions, phases, stokes_orders, harmonics)
+        ))
+
+    @property
+    def max_elevation(self) -> float:
+        """d = Σ_j Σ_n |a_jn|: the most the sea can depart from its mean level, metres."""
+        return float(sum(t.max_elevation for t in self.trains))
+
+    @property
+    def period(self) -> float | None:
+        """The cycle T after which the whole sea repeats, seconds.
+
+        Every ω_j must be a rational multiple p/q (q <= 64) of the lowest
+        ω_min; then T = 2π Q / ω_min with Q the least common multiple of the
+        denominators. For the trains of :meth:`periodic`, T = 2π/ω₁. None for
+        a sea that never repeats; 0 for still water (every instant is the same).
+        """
+        moving = [t for t in self.trains if t.amplitude > 0]
+        if not moving:
+            return 0.0
+        w0 = min(t.omega for t in moving)
+        q = 1
+        for t in moving:
+            r = t.omega / w0
+            frac = Fraction(r).limit_denominator(PERIOD_MAX_DENOMINATOR)
+            if abs(float(frac) - r) > 1e-9 * r:
+                return None
+            q = q * frac.denominator // math.gcd(q, frac.denominator)
+        return 2.0 * math.pi * q / w0
+
+    def elevation(self, x, y, t=0.0):
+        """Sea elevation above mean level, Σ_j Σ_n a_jn cos n θ_j (eq. 1), metres.
+
+        Parameters
+        ----------
+        x, y : float or array_like
+            Horizontal position, metres (x right, y away from the eye).
+        t : float or array_like
+            Time, seconds.
+
+        Returns
+        -------
+        ndarray
+            The broadcast shape of ``x``, ``y`` and ``t``, in the floating dtype
+            of ``x`` and ``y`` (float32 in, float32 out). NaN in, NaN out.
+        """
+        (x, y, t), dtype = _as_arrays(x, y, t)
+        out = np.zeros(np.broadcast_shapes(x.shape, y.shape, t.shape))
+        for train in self.trains:
+            l, m = train.wave_vector
+            theta = l * x + m * y - train.omega * t + train.phase
+            amps = train.harmonic_amplitudes()
+            for n, cn, _ in _harmonics(theta, len(amps)):
+                out += amps[n - 1] * cn
+        return out.astype(dtype, copy=False)
+
+    def gradient(self, x, y, t=0.0):
+        """Analytic (∂f/∂x, ∂f/∂y) of the sea surface (paper, after eq. 1).
+
+        ∂f/∂x = −Σ a_n n ℓ sin nθ, ∂f/∂y = −Σ a_n n m sin nθ, dimensionless.
+        Shapes and dtypes as :meth:`elevation`.
+        """
+        (x, y, t), dtype = _as_arrays(x, y, t)
+        shape = np.broadcast_shapes(x.shape, y.shape, t.shape)
+        fx = np.zeros(shape)
+        fy = np.zeros(shape)
+        for train in self.trains:
+            l, m = train.wave_vector
+            theta = l * x + m * y - train.omega * t + train.phase
+            amps = train.harmonic_amplitudes()
+            slope = np.zeros(theta.shape)
+            for n, _, sn in _harmonics(theta, len(amps)):
+                slope -= (amps[n - 1] * n) * sn
+            fx += l * slope
+            fy += m * slope
+        return fx.astype(dtype, copy=False), fy.astype(dtype, copy=False)
+
+    def normal(self, x, y, t=0.0):
+        """Unit upward normal (x̄, ȳ, z̄), shape ``broadcast + (3,)`` (paper's normal formula).
+
+        z̄ = 1/√(f_x² + f_y² + 1), x̄ = −z̄ f_x, ȳ = −z̄ f_y; dtype as :meth:`elevation`.
+        """
+        return unit_normal(*self.gradient(x, y, t))

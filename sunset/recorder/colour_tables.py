@@ -1,0 +1,150 @@
+"""The film recorder's colour translation tables: 256 entries for each of three passes.
+
+For each hour before sunset, every code of the tape (:mod:`sunset.tape.codes`)
+gets a colour from the physical sky (:mod:`sunset.model.sky`) seen through the
+film and the eye (:mod:`sunset.model.eye`):
+
+* **Sky codes** look along the camera's axis at the code's elevation; track and
+  halo codes take the same sky value, brightening towards the sun's colour when
+  the sun passes their elevation.
+* **Islands**: measured reflectance spectra (ColorChecker "foliage" for the
+  hill, "dark skin" for the brown cliff, CIE test colour sample 2 for the tan
+  beach) under the direct sun × the code's cosine factor, plus the skylight
+  averaged over the normals a code stands for
+  (:func:`sunset.model.sky.island_normals`). Skylight is what keeps the
+  islands' shadowed sides from going black.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+from ..constants import HALO_FACTOR, HALO_STRENGTH
+from ..errors import require_finite
+from ..model.eye import exposure_key, film_response, srgb_encode, to_uint8
+from ..model.sky import (direct_irradiance, elevation, irradiance, island_normals, sky_dome, sky_radiance,
+                         spectral_data, sun_radiance)
+from ..model.sun import Sun
+from ..tape.codes import (CODE_MAP, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
+                          track_elevation_max)
+
+__all__ = ["tables", "tables_linear", "sun_colour"]
+
+#: Sub-samples of each island code's dither interval.
+_N_SUBCODE = 16
+
+
+#: Sub-samples of each island code's dither interval.
+_N_SUBCODE = 16
+
+
+def _axis_direction(elevation: np.ndarray) -> np.ndarray:
+    """The direction along the camera's axis (+y) at each elevation."""
+    e = np.asarray(elevation, dtype=float)
+    return np.stack([np.zeros_like(e), np.cos(e), np.sin(e)], axis=-1)
+
+
+def _tent(centres: np.ndarray, at: float, radius: float, width: float) -> np.ndarray:
+    """1 within radius − width/2 of ``at``, falling linearly to 0 at radius + width/2."""
+    return np.clip((radius + 0.5 * width - np.abs(centres - at)) / width, 0.0, 1.0)
+
+
+def _island_factors(theta: float, size: int) -> np.ndarray:
+    """Mean of max(cos(θ − ψ), 0) over the dither interval of each island offset (triangle weights)."""
+    rh0 = island_code_rho(size)
+    step = 4.0 / size
+    t = (np.arange(_N_SUBCODE) + 0.5) / _N_SUBCODE * 2.0 - 1.0      # in (−1, 1)
+    w = 1.0 - np.abs(t)
+    rh = rh0[:, None] + t[None, :] * step
+    psi = sun_plane_angle(rh)
+    f = np.maximum(np.cos(theta - psi), 0.0)
+    return (f * w).sum(axis=1) / w.sum()
+
+
+def _tables_linear(sun: Sun, hours: float) -> tuple[np.ndarray, np.ndarray]:
+    """The three passes' tables as linear film response, shape (256, 3), and the sun's colour (3,)."""
+    cmap = CODE_MAP
+    theta = float(Sun.theta(hours))
+    p = sun.position(hours)
+    e_sun = elevation(p)
+    out = np.zeros((256, 3))
+
+    # sky: look along the camera's axis at the code's elevation
+    z = sky_code_z(cmap.sky.size)
+    e_sky = np.arcsin(z)
+    sky_dirs = np.stack([np.zeros_like(z), np.cos(e_sky), z], axis=-1)
+    # track and halo: away from the sun's height they are the sky "as before" (the
+    # sky at the same elevation), so the track shows no seam where it is not glittering
+    e_track = track_code_elevations(cmap.track.size, sun)
+    e_halo = track_code_elevations(cmap.halo.size, sun)
+    dirs = np.concatenate([sky_dirs, _axis_direction(e_track), _axis_direction(e_halo)])
+    key = exposure_key(p)
+    sky = film_response(sky_radiance(dirs, p), key)
+    n1, n2 = cmap.sky.size, cmap.sky.size + cmap.track.size
+    sky_lin, track_sky, halo_sky = sky[:n1], sky[n1:n2], sky[n2:]
+
+    delta = sun.delta
+    sun_lin = film_response(sun_radiance(e_sun, delta), key)
+    w_track = track_elevation_max(sun) / cmap.track.size       # elevation step of one code
+    w_halo = track_elevation_max(sun) / cmap.halo.size
+    a = _tent(e_track, e_sun, max(delta, w_track), w_track)[:, None]
+    b = HALO_STRENGTH * _tent(e_halo, e_sun, max(HALO_FACTOR * delta, w_halo), w_halo)[:, None]
+    out[cmap.sky.start:cmap.sky.stop] = sky_lin
+    out[cmap.track.start:cmap.track.stop] = (1 - a) * track_sky + a * sun_lin
+    out[cmap.halo.start:cmap.halo.stop] = (1 - b) * halo_sky + b * sun_lin
+
+    # islands: reflectance × (direct × cosine factor + diffuse sky)
+    direct = direct_irradiance(p, delta)
+    dome = sky_dome(p)
+    sp = spectral_data()
+    for rng, name in zip(cmap.islands, ("hill", "cliff", "beach")):
+        f = _island_factors(theta, rng.size)[:, None]
+        normals, w = island_normals(sun, sun_plane_angle(island_code_rho(rng.size)))
+        cos_beta = (w * np.hypot(normals @ sun.U, normals @ sun.V)).sum(axis=1)[:, None]  # mean |N_UV|
+        skylight = np.einsum("kj,kjl->kl", w, irradiance(normals, *dome))
+        radiance = sp.reflectance[name] * (direct * cos_beta * f + skylight) / math.pi
+        out[rng.start:rng.stop] = film_response(radiance, key)
+    return out, sun_lin
+
+
+@functools.lru_cache(maxsize=4096)
+def _tables_cached(sun: Sun, hours: float) -> tuple[np.ndarray, np.ndarray]:
+    lin, sun_lin = _tables_linear(sun, hours)
+    t = np.ascontiguousarray(to_uint8(srgb_encode(lin)).T)
+    t.setflags(write=False)
+    sun_lin.setflags(write=False)
+    return t, sun_lin
+
+
+def tables(sun: Sun, hours: float) -> np.ndarray:
+    """The film recorder's translation tables for the sun ``hours`` before sunset.
+
+    Parameters
+    ----------
+    sun : Sun
+        The sun's circle (U, V, W) and radius δ.
+    hours : float
+        Hours before sunset (θ = 15°/h); negative after sunset.
+
+    Returns
+    -------
+    ndarray (3, 256) uint8, read-only
+        One 256-entry table for each pass: red, green, blue.
+    """
+    require_finite("hours", hours)
+    return _tables_cached(sun, float(hours))[0]
+
+
+def tables_linear(sun: Sun, hours: float) -> np.ndarray:
+    """The same tables before the sRGB encoding and rounding: linear film response, (3, 256) float."""
+    require_finite("hours", hours)
+    return _tables_linear(sun, float(hours))[0].T
+
+
+def sun_colour(sun: Sun, hours: float) -> np.ndarray:
+    """The film's linear response (3,) to the sun's disk ``hours`` before sunset (the "sun colour")."""
+    require_finite("hours", hours)
+    return _tables_cached(sun, float(hours))[1]

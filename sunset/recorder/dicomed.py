@@ -1,0 +1,150 @@
+"""The film recorder stage: three colour passes through the tables, and the sun's disk.
+
+The Dicomed D-48 saw the tape three times, once through each of its red,
+green and blue filters, each time through a 256-entry translation table
+(:mod:`sunset.recorder.colour_tables`). It knew nothing of the scene: only the
+code of each pixel, its raster position and, through the tables, the sun's
+position P(θ) = U cos θ + V sin θ with θ = 15° per hour before sunset. This
+module is that machine. It reads codes (:mod:`sunset.tape.codes`), the
+scene's camera (raster position → direction) and its sun, and never a
+:class:`~sunset.vector.frame.Frame`.
+
+The sun-disk rule
+-----------------
+A pixel above the horizon, wholly inside the sun's disk, whose code is a sky
+code, is exposed in the sun's colour (the paper, *Color Specification for the
+Sky*, paraphrased); near the rim, a mix weighted by the fraction of the pixel
+(above the horizon) covered by the disk, found by sub-sampling the pixel's
+footprint.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..constants import SUN_SUPERSAMPLE
+from ..errors import SunsetError, require_finite
+from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
+from ..model.sun import Sun
+from ..tape.codes import CODE_MAP
+from .colour_tables import sun_colour, tables
+
+__all__ = ["PASSES", "sun_coverage", "expose"]
+
+#: The three passes of the film recorder, in order.
+PASSES = ("red", "green", "blue")
+
+
+# --------------------------------------------------------------------------- spectral data
+
+
+# --------------------------------------------------------------------------- air mass and columns
+
+
+# --------------------------------------------------------------------------- the tables
+
+
+# --------------------------------------------------------------------------- the sun disk
+def _dirs(s, z) -> np.ndarray:
+    d = np.stack(np.broadcast_arrays(s, np.ones_like(s * z), z), axis=-1)
+    return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+def sun_coverage(camera, sun: Sun, hours: float, supersample: int = SUN_SUPERSAMPLE):
+    """Fraction of each pixel covered by the sun's disk above the horizon.
+
+    Only pixels near the sun are examined. A pixel whose four corners lie
+    inside the disk (a convex spherical cap, so the whole pixel does) and
+    whose lower edge is above the horizon ζ = 0 is covered fully; a pixel
+    whose centre is farther than δ plus its half-diagonal from the sun's
+    centre, or that lies below the horizon, not at all; the rest are
+    sub-sampled on a ``supersample`` × ``supersample`` grid.
+
+    Returns
+    -------
+    (slice, slice, ndarray)
+        The rows and columns of the examined box and the coverage in [0, 1]
+        of each pixel in it (an empty box when the sun is out of view).
+    """
+    empty = (slice(0, 0), slice(0, 0), np.zeros((0, 0)))
+    p = sun.position(hours)
+    delta = sun.delta
+    if p[1] <= math.sin(delta):
+        return empty
+    s_c, z_c = p[0] / p[1], p[2] / p[1]
+    ds, dz = camera.pixel_pitch
+    reach = 1.1 * math.tan(delta) * (1.0 + s_c * s_c + z_c * z_c) + ds + dz
+    c0 = max(0, int(math.floor((s_c - reach - camera.s_min) / ds)))
+    c1 = min(camera.width, int(math.ceil((s_c + reach - camera.s_min) / ds)) + 1)
+    r0 = max(0, int(math.floor((camera.zy_max - (z_c + reach)) / dz)))
+    r1 = min(camera.height, int(math.ceil((camera.zy_max - (z_c - reach)) / dz)) + 1)
+    if c0 >= c1 or r0 >= r1 or z_c + reach <= 0.0:
+        return empty
+    s = camera.s_centres()[c0:c1][None, :]
+    z = camera.zy_centres()[r0:r1][:, None]
+    cos_d = math.cos(delta)
+    centre = _dirs(s, z)
+    ang = np.arccos(np.clip(centre @ p, -1.0, 1.0))
+    corners_in = np.ones(ang.shape, bool)
+    half_diag = np.zeros(ang.shape)
+    for fs in (-0.5, 0.5):
+        for fz in (-0.5, 0.5):
+            corner = _dirs(s + fs * ds, z + fz * dz)
+            corners_in &= corner @ p > cos_d
+            half_diag = np.maximum(half_diag, np.arccos(np.clip(np.sum(corner * centre, -1), -1.0, 1.0)))
+    above = (z - 0.5 * dz) >= 0.0
+    below = (z + 0.5 * dz) <= 0.0
+    cov = np.where(corners_in & above, 1.0, 0.0)
+    rim = ~(corners_in & above) & ~below & (ang - half_diag < delta)
+    if np.any(rim):
+        rows, cols = np.nonzero(rim)
+        n = supersample
+        f = (np.arange(n) + 0.5) / n - 0.5
+        ss = (s[0, cols][:, None, None] + f[None, None, :] * ds)
+        zz = (z[rows, 0][:, None, None] + f[None, :, None] * dz)
+        sub = _dirs(ss, zz)
+        inside = (sub @ p > cos_d) & (zz > 0.0)
+        cov[rows, cols] = inside.reshape(len(rows), -1).mean(axis=1)
+    return slice(r0, r1), slice(c0, c1), cov
+
+
+# --------------------------------------------------------------------------- exposing
+def expose(scene, codes, hours: float) -> np.ndarray:
+    """Expose one frame of codes: three passes through the tables, then the sun's disk.
+
+    Parameters
+    ----------
+    scene : Scene
+        Only its camera (raster position → direction) and its sun are used.
+    codes : ndarray (H, W) uint8
+        One frame of the tape.
+    hours : float
+        Hours before sunset.
+
+    Returns
+    -------
+    ndarray (H, W, 3) uint8
+        sRGB image.
+    """
+    require_finite("hours", hours)
+    codes = np.asarray(codes)
+    cam = scene.camera
+    if codes.dtype != np.uint8:
+        raise SunsetError(f"codes must be uint8, got {codes.dtype}")
+    if codes.shape != (cam.height, cam.width):
+        raise SunsetError(f"codes must have the camera's shape {(cam.height, cam.width)}, got {codes.shape}")
+    tab = tables(scene.sun, hours)
+    rgb = np.empty(codes.shape + (3,), np.uint8)
+    for k, _colour in enumerate(PASSES):        # one exposure through each filter
+        rgb[..., k] = tab[k][codes]
+    rows, cols, cov = sun_coverage(cam, scene.sun, hours)
+    if cov.size:
+        weight = np.where(CODE_MAP.reaches_sky(codes[rows, cols]), cov, 0.0)[..., None]
+        if np.any(weight > 0):
+            sun_lin = sun_colour(scene.sun, hours)
+            box = DECODE_LUT[rgb[rows, cols]]
+            mixed = (1.0 - weight) * box + weight * sun_lin
+            rgb[rows, cols] = np.where(weight > 0, to_uint8(srgb_encode(mixed)), rgb[rows, cols])
+    return rgb

@@ -1,0 +1,256 @@
+"""Colour-table animation: one wave cycle, rendered once, filmed while the sun sets.
+
+The paper's longest sequence was made from one cycle of the periodic wave
+motion, written to tape once and rendered onto film again and again, "so that
+the repeated frames were differently illuminated each time through the cycle"
+(paper, *Color Table Animation*). Here:
+
+1. :func:`render_cycle` renders the N frames t_i = i T/N, i = 0 … N − 1, of one
+   period T of the sea (:attr:`sunset.model.waves.Sea.period`, from the dispersion
+   relation), and codes them into a :class:`~sunset.tape.tapefile.Tape`. Frame N would
+   be t = T, which is frame 0 again, so the cycle loops without a seam.
+2. :func:`write_film` replays the tape ``cycles`` times while the hours before
+   sunset run linearly from ``from_hours`` to ``to_hours``: film frame j
+   shows tape frame j mod N through the tables for its own hour. It writes an
+   MP4 (H.264, yuv420p, constant frame rate) and a small looping preview (GIF or WebP).
+
+Only the film recorder runs in step 2: no frame is traced again.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_FPS, MAX_TAPE_BYTES
+from ..errors import SunsetError, require_finite, require_int_range
+from ..tape.tapefile import Tape, write_tape
+
+__all__ = ["cycle_times", "render_cycle", "film_hours", "film_frames", "write_film", "make_film",
+           "FILM_CYCLES", "PREVIEW_WIDTH", "PREVIEW_FRAMES"]
+
+#: Default number of times the cycle is replayed in the film.
+FILM_CYCLES = 6
+
+#: Width of the looping preview, pixels, and the most frames it keeps.
+PREVIEW_WIDTH = 240
+PREVIEW_FRAMES = 96
+
+#: x264 settings: a fixed thread count and bit-exact flags keep the MP4 the same
+#: from run to run (ffmpeg writes no creation time unless asked).
+_X264_PARAMS = ["-preset", "medium", "-crf", "18", "-threads", "2", "-x264-params", "threads=2",
+                "-fflags", "+bitexact", "-flags:v", "+bitexact", "-map_metadata", "-1"]
+
+
+def _bar(total: int, desc: str, progress: bool):
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=not progress, leave=False)
+
+
+def cycle_times(scene, frames: int) -> np.ndarray:
+    """t_i = i T/N for i = 0 … N − 1, seconds (all zero on still water).
+
+    Raises :class:`SunsetError` when the sea never repeats.
+    """
+    require_int_range("frames", frames, 1)
+    period = scene.sea.period
+    if period is None:
+        raise SunsetError("sea.trains: the sea never repeats (frequencies must be rational multiples of the "
+                          "lowest, e.g. wavelengths λ, λ/4, λ/9, …), so it has no cycle to film")
+    return np.arange(frames, dtype=np.float64) * (float(period) / frames)
+
+
+def render_cycle(scene, frames: int, reflections: int = 2, seed: int = 0, progress: bool = True,
+                 workers: int | None = None) -> Tape:
+    """Render and code one wave cycle: the vector stage, once per frame.
+
+    The frames are independent, so they are rendered by ``workers``
+    processes at once (:func:`sunset.tape.cycle.code_frames`); the tape is
+    byte-identical to the one a single process makes.
+
+    Parameters
+    ----------
+    scene : Scene
+    frames : int
+        N, frames per cycle.
+    reflections : {0, 1, 2}
+        Reflection mode (see :mod:`sunset.vector.render`).
+    seed : int
+        Dither seed, reset for every frame.
+    progress : bool
+        Show a progress bar on stderr.
+    workers : int, optional
+        Processes to use; default ``$SUNSET_WORKERS`` or the number of CPUs (at most 2).
+
+    Returns
+    -------
+    Tape
+        N frames of codes at t_i = i T/N.
+    """
+    from ..tape.cycle import code_frames
+
+    require_int_range("reflections", reflections, 0, 2)
+    require_int_range("seed", seed, 0, 2**32 - 1)
+    times = cycle_times(scene, frames)
+    cam = scene.camera
+    if frames * cam.width * cam.height > MAX_TAPE_BYTES:
+        raise SunsetError(f"frames: {frames} frames at {cam.width}x{cam.height} would need a tape of "
+                          f"{frames * cam.width * cam.height / 2**30:.1f} GiB (at most "
+                          f"{MAX_TAPE_BYTES / 2**30:g} GiB): use fewer frames or a smaller picture")
+    with _bar(frames, "rendering the wave cycle", progress) as bar:
+        codes = code_frames(scene, times, reflections, seed, workers=workers, on_frame=lambda i, c: bar.update(1))
+    return Tape(scene=scene, codes=codes, times=times, reflections=reflections, seed=seed)
+
+
+def film_hours(from_hours: float, to_hours: float, count: int) -> np.ndarray:
+    """Hours before sunset of each film frame: linear from ``from_hours`` to ``to_hours`` inclusive."""
+    require_finite("from_hours", from_hours)
+    require_finite("to_hours", to_hours)
+    require_int_range("count", count, 1)
+    if count == 1:
+        return np.array([float(from_hours)])
+    return np.linspace(float(from_hours), float(to_hours), count)
+
+
+def film_frames(tape: Tape, from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS,
+                cycles: int = FILM_CYCLES):
+    """Yield ``(hours, rgb)`` for every film frame: tape frame j mod N through the tables for its hour."""
+    from .dicomed import expose
+
+    require_int_range("cycles", cycles, 1)
+    n = len(tape)
+    for j, hours in enumerate(film_hours(from_hours, to_hours, cycles * n)):
+        yield float(hours), expose(tape.scene, tape.codes[j % n], float(hours))
+
+
+def _even(rgb: np.ndarray) -> np.ndarray:
+    """Pad an image to even width and height by repeating its last row/column (yuv420p needs both even)."""
+    h, w = rgb.shape[:2]
+    return np.pad(rgb, ((0, h % 2), (0, w % 2), (0, 0)), mode="edge")
+
+
+def _preview_image(rgb: np.ndarray, width: int):
+    from PIL import Image
+
+    img = Image.fromarray(rgb)
+    if img.width > width:
+        height = max(1, round(img.height * width / img.width))
+        img = img.resize((width, height), Image.Resampling.LANCZOS)
+    return img
+
+
+#: Name endings of the film and of its preview.
+FILM_SUFFIXES = (".mp4",)
+PREVIEW_SUFFIXES = (".gif", ".webp")
+
+
+def _check_film(path_mp4, path_preview, from_hours: float, to_hours: float, cycles: int, fps: int,
+                preview_width: int = PREVIEW_WIDTH) -> tuple[Path, Path | None]:
+    """Every check of :func:`write_film`'s arguments, made before any work; the checked paths."""
+    from ..io import check_writable
+
+    require_finite("from_hours", from_hours)
+    require_finite("to_hours", to_hours)
+    require_int_range("cycles", cycles, 1)
+    require_int_range("fps", fps, 1, MAX_FPS)
+    require_int_range("preview_width", preview_width, 8)
+    path_mp4 = check_writable(path_mp4, FILM_SUFFIXES)
+    if path_preview is not None:
+        path_preview = check_writable(path_preview, PREVIEW_SUFFIXES)
+    return path_mp4, path_preview
+
+
+def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.PathLike | None = None,
+               from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, cycles: int = FILM_CYCLES,
+               fps: int = FILM_FPS, progress: bool = True, preview_width: int = PREVIEW_WIDTH) -> list[Path]:
+    """Film a tape: replay its cycle ``cycles`` times while the sun moves; MP4 and preview.
+
+    Parameters
+    ----------
+    tape : Tape
+        One wave cycle of codes (from :func:`render_cycle`).
+    path_mp4 : path
+        The film: H.264 in MP4, yuv420p, ``fps`` frames per second (an odd
+        picture size is padded by one row or column to make it even).
+    path_preview : path, optional
+        A small looping preview, WebP if the name ends in ``.webp`` and GIF
+        otherwise: every k-th film frame (at most
+        :data:`PREVIEW_FRAMES`), ``preview_width`` pixels wide.
+    from_hours, to_hours : float
+        Hours before sunset at the first and the last film frame.
+    cycles : int
+        How many times the cycle is replayed.
+    fps : int
+        Frames per second.
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    list of Path
+        The files written. Both are written atomically.
+    """
+    import imageio_ffmpeg
+
+    from ..io import atomic_write
+
+    path_mp4, path_preview = _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps, preview_width)
+    total = cycles * len(tape)
+    step = max(1, -(-total // PREVIEW_FRAMES))
+    preview = []
+    cam = tape.scene.camera
+    size = (cam.width + cam.width % 2, cam.height + cam.height % 2)
+    with atomic_write(path_mp4) as tmp, _bar(total, "filming", progress) as bar:
+        writer = imageio_ffmpeg.write_frames(str(tmp), size, fps=fps, codec="libx264", pix_fmt_in="rgb24",
+                                             pix_fmt_out="yuv420p", quality=None, macro_block_size=1,
+                                             ffmpeg_log_level="error", output_params=_X264_PARAMS)
+        writer.send(None)
+        try:
+            for j, (_, rgb) in enumerate(film_frames(tape, from_hours, to_hours, cycles)):
+                writer.send(np.ascontiguousarray(_even(rgb)))
+                if path_preview is not None and j % step == 0:
+                    preview.append(_preview_image(rgb, preview_width))
+                bar.update(1)
+        finally:
+            writer.close()
+    written = [path_mp4]
+    if path_preview is not None:
+        import io
+
+        from ..io import write_bytes
+
+        buf = io.BytesIO()
+        if Path(path_preview).suffix.lower() == ".webp":
+            preview[0].save(buf, format="WEBP", save_all=True, append_images=preview[1:], loop=0,
+                            duration=round(1000 * step / fps), quality=80, method=4)
+        else:
+            preview[0].save(buf, format="GIF", save_all=True, append_images=preview[1:], loop=0,
+                            duration=round(1000 * step / fps), optimize=False)
+        write_bytes(path_preview, buf.getvalue())
+        written.append(path_preview)
+    return written
+
+
+def make_film(scene, path_mp4: str | os.PathLike, path_preview: str | os.PathLike | None = None, frames: int = 32,
+              from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, reflections: int = 2,
+              seed: int = 0, fps: int = FILM_FPS, tape_path: str | os.PathLike | None = None,
+              progress: bool = True, cycles: int = FILM_CYCLES) -> list[Path]:
+    """Render one cycle to a tape (optionally saved), then film it: what ``sunset film`` runs.
+
+    Returns the files written (MP4, then the preview and the tape if asked).
+    """
+    from ..io import check_writable
+
+    _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps)
+    if tape_path is not None:
+        check_writable(tape_path)
+    tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress)
+    written = write_film(tape, path_mp4, path_preview, from_hours=from_hours, to_hours=to_hours, cycles=cycles,
+                         fps=fps, progress=progress)
+    if tape_path is not None:
+        written.append(write_tape(tape_path, tape))
+    return written

@@ -1,0 +1,96 @@
+"""The tape of one wave cycle: each frame's rays traced and coded, several frames at once.
+
+:func:`code_frame` is the vector stage for one frame, ending on the tape:
+:func:`sunset.vector.render.render`, then :func:`sunset.tape.codes.encode`.
+:func:`code_frames` codes the frames of a cycle in a pool of processes
+(:func:`frame_workers`), byte-identical to a serial run.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import require_int_range
+from ..model.scene import Scene
+from ..vector.render import render
+from .codes import encode
+
+__all__ = ["code_frame", "code_frames", "frame_workers"]
+
+
+def code_frame(scene: Scene, t: float, reflections: int = 2, seed: int = 0):
+    """The vector stage for one frame: :func:`render` then :func:`sunset.tape.codes.encode` (uint8 (H, W))."""
+
+    return encode(scene, render(scene, float(t), reflections), seed=seed)
+
+
+def _code_frame_task(args):
+    return code_frame(*args)
+
+
+def frame_workers(workers: int | None = None, frames: int = 1) -> int:
+    """How many processes render frames: ``workers``, else ``$SUNSET_WORKERS``, else the CPU count (at most 2… frames).
+
+    The machine the project targets has two cores; more processes than frames
+    or cores buy nothing.
+    """
+    import os
+
+    if workers is None:
+        env = os.environ.get("SUNSET_WORKERS", "")
+        workers = int(env) if env.strip().isdigit() else min(2, os.cpu_count() or 1)
+    require_int_range("workers", workers, 1)
+    return max(1, min(int(workers), int(frames)))
+
+
+def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, workers: int | None = None,
+                on_frame=None):
+    """Code the frames at ``times`` (seconds), in order, over ``workers`` processes.
+
+    Frames are independent, so they are shared out to a process pool (frames
+    i, i + w, … go to whichever worker is free); the results are collected in
+    order, and each frame is computed by the same deterministic code as in
+    one process, so the codes are byte-identical to the serial path. The first
+    frame is rendered here first, so that the workers (forked where the
+    platform allows) inherit compiled kernels instead of loading them each.
+
+    Parameters
+    ----------
+    on_frame : callable, optional
+        Called with (index, codes) as each frame arrives (a progress bar).
+
+    Returns
+    -------
+    ndarray (N, H, W) uint8
+    """
+    import multiprocessing
+    import sys
+    from concurrent.futures import ProcessPoolExecutor
+
+    times = [float(t) for t in times]
+    cam = scene.camera
+    out = np.empty((len(times), cam.height, cam.width), np.uint8)
+    n = frame_workers(workers, len(times))
+
+    def put(i, codes):
+        out[i] = codes
+        if on_frame is not None:
+            on_frame(i, codes)
+
+    if not times:
+        return out
+    put(0, code_frame(scene, times[0], reflections, seed))
+    rest = [(scene, t, reflections, seed) for t in times[1:]]
+    if n <= 1 or not rest:
+        for i, args in enumerate(rest, start=1):
+            put(i, code_frame(*args))
+        return out
+    methods = multiprocessing.get_all_start_methods()
+    # fork is cheapest (the children share the loaded kernels); Python 3.12+ warns about forking a
+    # process that has threads (BLAS has), so there the forkserver starts the workers
+    method = "fork" if "fork" in methods and sys.version_info < (3, 12) else (
+        "forkserver" if "forkserver" in methods else "spawn")
+    with ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method)) as pool:
+        for i, codes in enumerate(pool.map(_code_frame_task, rest), start=1):
+            put(i, codes)
+    return out

@@ -1,0 +1,93 @@
+"""The frame: what the vector stage knows about every pixel.
+
+A :class:`Frame` is filled in two steps, mirroring the paper's pipeline:
+
+1. direct rays (``sunset.vector.heightfield`` and ``sunset.model.islands``): what the ray
+   from the eye through each pixel centre meets first;
+2. reflected rays (``sunset.vector.pierce``): for sea pixels, where the ray goes after
+   one or two reflections on the water, and what it finally meets.
+
+Arrays are (height, width) or (height, width, 3), row 0 at the top of the
+picture, column 0 at the left (the first scan line).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..constants import SKY
+
+
+@dataclass
+class Frame:
+    """Per-pixel results of the vector stage for one scene at one time.
+
+    Attributes
+    ----------
+    t : float
+        Time, seconds.
+    reflections : int
+        The reflection mode it was rendered with (0, 1 or 2).
+    direction : ndarray (H, W, 3) float32
+        Unit direction D of the direct ray through the pixel centre.
+    surface : ndarray (H, W) int8
+        What the direct ray meets: −1 sky, 0 sea, k >= 1 island k (1-based).
+    part : ndarray (H, W) int8
+        For islands, which part: 1 beach, 2 cliff, 3 hill; 0 otherwise.
+    distance : ndarray (H, W) float32
+        Distance along the direct ray to the hit, metres; +inf for sky.
+    point : ndarray (H, W, 3) float32
+        The hit point, metres (eye at the origin); NaN for sky.
+    normal : ndarray (H, W, 3) float32
+        Unit surface normal at the hit; NaN for sky.
+    bounces : ndarray (H, W) uint8
+        Number of water reflections the ray made (0, 1 or 2).
+    ray : ndarray (H, W, 3) float32
+        The final ray direction: D for sky and island pixels, the (last)
+        reflected ray for sea pixels (with |R_z| applied where the mode says).
+    final_surface : ndarray (H, W) int8
+        What the ray finally meets: −1 sky or k >= 1 island k.
+    final_part : ndarray (H, W) int8
+        The island part of the final hit; 0 for sky.
+    final_normal : ndarray (H, W, 3) float32
+        Unit normal at the final hit (for islands); NaN for sky.
+    """
+
+    t: float
+    reflections: int
+    direction: np.ndarray
+    surface: np.ndarray
+    part: np.ndarray
+    distance: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+    bounces: np.ndarray | None = None
+    ray: np.ndarray | None = None
+    final_surface: np.ndarray | None = None
+    final_part: np.ndarray | None = None
+    final_normal: np.ndarray | None = None
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(height, width) in pixels."""
+        return self.surface.shape
+
+    def finish_direct(self) -> "Frame":
+        """Fill the final-ray fields as if no ray reflected (direct rays only).
+
+        Sky and island pixels end where the direct ray ends; sea pixels keep
+        ``final_surface`` = 0 until :mod:`sunset.vector.pierce` traces them.
+        """
+        self.bounces = np.zeros(self.shape, np.uint8)
+        self.ray = self.direction.copy()
+        self.final_surface = self.surface.copy()
+        self.final_part = self.part.copy()
+        self.final_normal = self.normal.copy()
+        return self
+
+    @property
+    def sky(self) -> np.ndarray:
+        """Boolean mask of pixels whose direct ray meets the sky."""
+        return self.surface == SKY

@@ -1,0 +1,93 @@
+"""The reflected rays of a frame: every sea pixel's ray reflected, pierced and written back.
+
+:func:`trace_reflections` reflects the direct ray of every sea pixel off the
+wave normal (:func:`sunset.vector.pierce.reflect`), optionally a second time off
+the crest ahead (:mod:`sunset.vector.crests`), folds the ray up (R_z → |R_z|, the
+paper's rule for rays that would go under the sea) and pierces the islands'
+cosine-free paraboloids (:mod:`sunset.vector.pierce`); what it meets fills the
+frame's final fields. The per-ray work runs on compressed subsets
+(:func:`~sunset.vector.pierce.gather`, :func:`~sunset.vector.pierce.scatter`), as the Cray's gather/scatter would.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..constants import SEA, SKY
+from ..errors import require_int_range
+from ..kernels import twin
+from .crests import secondary_reflections
+from .frame import Frame
+from .pierce import gather, island_normal, pierce_islands, reflect, scatter
+
+__all__ = ["trace_reflections", "trace_sea_rays"]
+
+
+def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
+    """Trace the reflected rays of every sea pixel and fill the frame's final fields.
+
+    Parameters
+    ----------
+    scene : Scene
+    frame : Frame
+        After :meth:`Frame.finish_direct` (called here if it was not).
+    reflections : {0, 1, 2}
+        0: R_z → |R_z|, straight to the sky. 1: one reflection, |R_z|, then the
+        islands or the sky (Figures 4, 5). 2: secondary reflections off the
+        crest cylinder, then |R_z|, then the islands or the sky (Figure 6).
+
+    Returns
+    -------
+    Frame
+        The same frame, with ``reflections`` set and ``bounces``, ``ray``,
+        ``final_surface``, ``final_part`` and ``final_normal`` filled for sea
+        pixels (``final_normal`` is NaN where the ray ends in the sky).
+    """
+    require_int_range("reflections", reflections, 0, 2)
+    if frame.bounces is None:
+        frame.finish_direct()
+    frame.reflections = reflections
+    sea_mask = frame.surface == SEA
+    if not sea_mask.any():
+        return frame
+    return trace_sea_rays(scene, frame, reflections)
+
+
+@twin("sunset.vector.reflect_numba")
+def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
+    """The work of :func:`trace_reflections` on a frame with sea pixels: reflect, pierce, write back.
+
+    Gather and reflect the sea pixels' rays; with two reflections pierce the
+    crest cylinders and reflect the hits again off the true wave normal;
+    |R_z|; pierce the islands and shade the island hits; scatter the final
+    fields into the frame (in place) and return it.
+    """
+    sea_mask = frame.surface == SEA
+    h = scene.camera.eye_height
+    q = frame.point[sea_mask].astype(np.float64)
+    d = frame.direction[sea_mask].astype(np.float64)
+    n = frame.normal[sea_mask].astype(np.float64)
+    r = reflect(d, n)
+    bounces = np.ones(len(q), np.uint8)
+    if reflections == 2:
+        idx, point, ray2 = secondary_reflections(scene.sea, frame.t, q, r)
+        scatter(idx, point, q)
+        scatter(idx, ray2, r)
+        scatter(idx, 2, bounces)
+    r[:, 2] = np.abs(r[:, 2])
+    final = np.full(len(q), SKY, np.int8)
+    part = np.zeros(len(q), np.int8)
+    normal = np.full((len(q), 3), np.nan)
+    if reflections >= 1 and scene.islands:
+        dist, final, part = pierce_islands(scene.islands, h, q, r)
+        for k, island in enumerate(scene.islands, start=1):
+            idx, (qk, rk, tk, pk) = gather(final == k, q, r, dist, part)
+            if len(idx):
+                hit = qk + tk[:, None] * rk
+                scatter(idx, island_normal(island, hit[:, 0], hit[:, 1], pk), normal)
+    frame.bounces[sea_mask] = bounces
+    frame.ray[sea_mask] = r
+    frame.final_surface[sea_mask] = final
+    frame.final_part[sea_mask] = part
+    frame.final_normal[sea_mask] = normal
+    return frame

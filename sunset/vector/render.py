@@ -1,0 +1,53 @@
+"""The vector stage, end to end: a scene and a time in, a :class:`Frame` out.
+
+``render`` runs the paper's pipeline for the rays: direct rays by the
+height-field scan line (:mod:`sunset.vector.heightfield`, :mod:`sunset.model.islands`),
+then reflected rays (:mod:`sunset.vector.pierce`).
+
+Reflection modes
+----------------
+0
+    Reflected rays go straight to the sky: no islands are pierced and no
+    secondary reflection is looked for (a diagnostic; the cheapest mode).
+1
+    One reflection from the waves, each reflected R_z replaced by |R_z|, then
+    the islands or the sky (Figure 5; Figure 4 is this mode on still water).
+2
+    Up to two reflections: secondary reflections off a parabolic cylinder
+    fitted to the crest ahead, gathered and scattered (Figure 6).
+"""
+
+from __future__ import annotations
+
+
+from ..errors import require_finite, require_int_range
+from .frame import Frame
+from ..model.scene import Scene
+
+def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
+    """Trace every pixel of ``scene`` at time ``t`` (seconds).
+
+    Parameters
+    ----------
+    scene : Scene
+    t : float
+        Time in seconds (the sea moves; nothing else does).
+    reflections : {0, 1, 2}
+        See the module docstring.
+
+    Returns
+    -------
+    Frame
+        Direct-ray and final-ray fields for every pixel.
+    """
+    from .direct import trace_direct
+    from .reflect import trace_reflections
+
+    require_finite("t", t)
+    require_int_range("reflections", reflections, 0, 2)
+    return trace_reflections(scene, trace_direct(scene, t), reflections)
+
+
+# --------------------------------------------------------------------------- many frames, both cores
+
+

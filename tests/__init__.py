@@ -1,0 +1,1 @@
+"""The tests of sunset, mirroring the package."""
