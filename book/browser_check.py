@@ -26,6 +26,15 @@ pages and redirects such as ``index.html``) it checks that
   ``\\)``, ``\\[``, ``\\]``, and no ``$...$`` holding a TeX command;
 * every ``<img>`` loaded (``complete`` and ``naturalWidth > 0``).
 
+Then it checks the colour-table player (sunset/recorder/player.py), on the
+one page that embeds it and in a small file written by ``sunset player`` and
+opened from disk: through the test hook ``?frame=F&hours=H&dump=1`` the
+pixels it draws for several frames and hours are those of ``sunset.expose``
+(exactly, and within 1/255 on the sun's anti-aliased rim); playing changes
+the canvas; nothing is loaded from outside. It times the player's per-frame
+draw (a benchmark: the median is printed and written to
+``book/_build/player-bench.json``, never asserted).
+
 It saves a screenshot (PNG) of every page under ``--screenshot-dir``
 (default: ``book/_build/screenshots``) and a full-page one of the camera
 chapter as ``book/_build/screenshot-camera.png``. It prints one line per page
@@ -296,28 +305,10 @@ def pages_of(root: Path) -> list[Path]:
     return pages
 
 
-def check_page(dt: DevTools, session: str, base: str, root: Path, page: Path,
-               shot_dir: Path) -> tuple[list[str], dict]:
-    rel = page.relative_to(root).as_posix()
-    url = base + rel
+def network_problems(events: list[dict], session: str, base: str) -> list[str]:
+    """What went wrong on the network while a page loaded: requests outside ``base`` (other than
+    ``data:``/``blob:``/``about:`` URLs), failed requests, HTTP errors and JavaScript exceptions."""
     problems: list[str] = []
-    for cdn in static_cdn_urls(page.read_text(encoding="utf-8", errors="replace")):
-        problems.append(f"loads {cdn} from the network (script/link)")
-
-    dt.events()  # drop what came before this page
-    dt.call("Page.navigate", {"url": url}, session)
-    events = dt.wait_event("Page.loadEventFired", session, PAGE_TIMEOUT)
-    result = dt.call("Runtime.evaluate", {"expression": PAGE_PROBE, "awaitPromise": True,
-                                          "returnByValue": True}, session)
-    if "exceptionDetails" in result:
-        problems.append(f"page probe failed: {result['exceptionDetails'].get('text')}")
-        report = {}
-    else:
-        report = result["result"]["value"]
-    time.sleep(0.2)
-    events += dt.events()
-
-    # The network: only our server, no failures, no HTTP errors.
     requests = {}
     for ev in events:
         if ev.get("sessionId") != session:
@@ -340,6 +331,31 @@ def check_page(dt: DevTools, session: str, base: str, root: Path, page: Path,
     for u in sorted(set(requests.values())):
         if not (u.startswith(base) or u.startswith(("data:", "blob:", "about:"))):
             problems.append(f"network request outside the book: {u}")
+    return problems
+
+
+def check_page(dt: DevTools, session: str, base: str, root: Path, page: Path,
+               shot_dir: Path) -> tuple[list[str], dict]:
+    rel = page.relative_to(root).as_posix()
+    url = base + rel
+    problems: list[str] = []
+    for cdn in static_cdn_urls(page.read_text(encoding="utf-8", errors="replace")):
+        problems.append(f"loads {cdn} from the network (script/link)")
+
+    dt.events()  # drop what came before this page
+    dt.call("Page.navigate", {"url": url}, session)
+    events = dt.wait_event("Page.loadEventFired", session, PAGE_TIMEOUT)
+    result = dt.call("Runtime.evaluate", {"expression": PAGE_PROBE, "awaitPromise": True,
+                                          "returnByValue": True}, session)
+    if "exceptionDetails" in result:
+        problems.append(f"page probe failed: {result['exceptionDetails'].get('text')}")
+        report = {}
+    else:
+        report = result["result"]["value"]
+    time.sleep(0.2)
+    events += dt.events()
+
+    problems += network_problems(events, session, base)
 
     if report:
         if report["math"]:
@@ -374,6 +390,212 @@ def check_page(dt: DevTools, session: str, base: str, root: Path, page: Path,
                 {"width": VIEWPORT[0], "height": VIEWPORT[1], "deviceScaleFactor": 1, "mobile": False},
                 session)
     return problems, report
+
+
+# --------------------------------------------------------------------------- the colour-table player
+#: Element id of the player (sunset/recorder/player.html) and of its test hook's output.
+PLAYER_ID = "sunset-player"
+#: Blocks of ten draws per benchmark run, and runs (after one warm-up run).
+PLAYER_BENCH_BLOCKS = 20
+PLAYER_BENCH_RUNS = 5
+#: The small self-contained player written with `sunset player` and opened from disk.
+STANDALONE_ARGS = ["--frames", "3", "--size", "64x64", "--from-hours", "0.6", "--to-hours", "0.2", "--quiet"]
+
+PLAYER_READY = """
+(async () => {
+  const t0 = Date.now();
+  while (!window.sunsetPlayer && Date.now() - t0 < 20000) await new Promise((r) => setTimeout(r, 20));
+  await window.sunsetPlayer.ready;
+  return document.getElementById("sunset-player").dataset.state;
+})()
+"""
+
+
+def _evaluate(dt: DevTools, session: str, expression: str):
+    result = dt.call("Runtime.evaluate", {"expression": expression, "awaitPromise": True,
+                                          "returnByValue": True}, session)
+    if "exceptionDetails" in result:
+        d = result["exceptionDetails"]
+        msg = (d.get("exception") or {}).get("description") or d.get("text")
+        raise BrowserError(f"in the page: {str(msg).splitlines()[0]}")
+    return result["result"].get("value")
+
+
+def _open_player(dt: DevTools, session: str, url: str) -> list[dict]:
+    """Navigate to a player page and wait until it has drawn; the events seen on the way."""
+    dt.events()
+    dt.call("Page.navigate", {"url": url}, session)
+    events = dt.wait_event("Page.loadEventFired", session, PAGE_TIMEOUT)
+    state = _evaluate(dt, session, PLAYER_READY)
+    if state != "ready":
+        raise BrowserError(f"the player at {url} did not start (state {state!r})")
+    time.sleep(0.1)
+    return events + dt.events()
+
+
+def _canvas(dt: DevTools, session: str) -> str:
+    return _evaluate(dt, session, "document.querySelector('#sunset-player canvas').toDataURL('image/png')")
+
+
+def _compare_dumps(dt: DevTools, session: str, url: str, allowed: str, data: dict, cases,
+                   need_rim: bool = True) -> tuple[list[str], list[str]]:
+    """Open ``url?frame=F&hours=H&dump=1`` for each case and compare the dump with sunset.expose.
+
+    Requests outside ``allowed`` (a URL prefix) are problems; so is, when
+    ``need_rim``, a set of cases in which no sky pixel lies on the sun's rim.
+    """
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    from sunset import Scene, expose
+    from sunset.recorder.player import decode_codes, nearest_hour
+
+    scene = Scene.from_toml(data["scene"])
+    codes = decode_codes(data)
+    n2 = data["supersample"] ** 2
+    problems, lines = [], []
+    rim_total = 0
+    for frame, hours in cases:
+        events = _open_player(dt, session, f"{url}?frame={frame}&hours={hours!r}&dump=1")
+        problems += network_problems(events, session, allowed)
+        dump = _evaluate(dt, session, "document.getElementById('sunset-dump').textContent")
+        if not dump.startswith("data:image/png;base64,"):
+            problems.append(f"frame {frame}, hours {hours}: #sunset-dump holds no PNG data URL")
+            continue
+        with Image.open(io.BytesIO(base64.b64decode(dump.split(",", 1)[1]))) as img:
+            got = np.asarray(img.convert("RGBA"))
+        h = nearest_hour(data["hours"], hours)
+        want = expose(scene, codes[frame], data["hours"][h])
+        if got.shape[:2] != want.shape[:2]:
+            problems.append(f"frame {frame}, hours {hours}: canvas {got.shape[:2]} is not the picture "
+                            f"{want.shape[:2]}")
+            continue
+        diff = np.abs(got[..., :3].astype(int) - want.astype(int)).max(axis=-1)
+        rim = np.zeros(diff.shape, bool)        # sky-coded pixels the disk covers only in part
+        s = data["sun"][h]
+        if s is not None:
+            k = np.asarray(s["cover"]).reshape(s["h"], s["w"])
+            box = (slice(s["r0"], s["r0"] + s["h"]), slice(s["c0"], s["c0"] + s["w"]))
+            rim[box] = (k > 0) & (k < n2) & (codes[frame][box] >= data["sky_start"])
+        rim_total += int(rim.sum())
+        bad_table = int(np.count_nonzero(diff[~rim]))
+        bad_rim = int(np.count_nonzero(diff[rim] > 1))
+        if bad_table or bad_rim or np.any(got[..., 3] != 255):
+            problems.append(f"frame {frame}, hours {hours} (grid {data['hours'][h]:.4f}): {bad_table} pixels "
+                            f"differ from sunset.expose, {bad_rim} rim pixels by more than 1/255")
+        lines.append(f"frame {frame}, {data['hours'][h]:+.3f} h: {diff.size} pixels, "
+                     f"{int(rim.sum())} on the sun's rim, largest difference {int(diff.max())}/255")
+    if need_rim and rim_total == 0:
+        problems.append("no compared frame had the sun's anti-aliased rim on a sky pixel")
+    return problems, lines
+
+
+def _dump_cases(data: dict) -> list[tuple[int, float]]:
+    """Frames and hours to compare: the ends of the grid, and the hours where the rim has most sky pixels."""
+    import numpy as np
+
+    from sunset.recorder.player import decode_codes
+
+    codes = decode_codes(data)
+    n, m, n2 = data["frames"], len(data["hours"]), data["supersample"] ** 2
+    rim = np.zeros(m, int)
+    for h, s in enumerate(data["sun"]):
+        if s is not None:
+            k = np.asarray(s["cover"]).reshape(s["h"], s["w"])
+            box = codes[0][s["r0"]:s["r0"] + s["h"], s["c0"]:s["c0"] + s["w"]]
+            rim[h] = int(np.count_nonzero((k > 0) & (k < n2) & (box >= data["sky_start"])))
+    best = [int(i) for i in np.argsort(-rim, kind="stable")[:2] if rim[i] > 0]
+    hours = [0, m - 1] + best
+    frames = [0, n // 2, n - 1, (n // 3) % n]
+    step = (data["hours"][1] - data["hours"][0]) if m > 1 else 0.0
+    # off-grid hours (a quarter step away) test "the grid hour nearest H"
+    return [(frames[i % len(frames)], data["hours"][h] + (0.25 * step if i % 2 else 0.0))
+            for i, h in enumerate(dict.fromkeys(hours))]
+
+
+def check_player(dt: DevTools, session: str, base: str, root: Path, pages: list[Path],
+                 bench_out: Path) -> tuple[list[str], list[str]]:
+    """The colour-table player in the built book and as a file written by ``sunset player``.
+
+    * The book has a page with the player; for several frames and hours the
+      test hook's dump equals ``sunset.expose`` on the same codes exactly,
+      except on the sun's anti-aliased rim, where it may differ by 1/255.
+    * Playing changes the canvas (and so does the sun setting while it plays).
+    * Nothing is loaded from outside (the book's server, or the file itself).
+    * The per-frame draw time at the player's resolution (a benchmark: the
+      median is reported and written to ``bench_out``, never asserted).
+    """
+    import statistics
+
+    from sunset.recorder.player import read_player_data
+
+    problems: list[str] = []
+    lines: list[str] = []
+    found = [p for p in pages if f'id="{PLAYER_ID}"' in p.read_text(encoding="utf-8", errors="replace")]
+    if len(found) != 1:
+        return [f"expected one page with the player (id {PLAYER_ID}), found {len(found)}"], lines
+    page = found[0]
+    rel = page.relative_to(root).as_posix()
+    url = base + rel
+    data = read_player_data(page.read_text(encoding="utf-8"))
+    p, out = _compare_dumps(dt, session, url, base, data, _dump_cases(data))
+    problems += [f"{rel}: {x}" for x in p]
+    lines += [f"{rel}: {x}" for x in out]
+
+    # Playing changes the canvas; with the sun setting, the hour moves on too.
+    events = _open_player(dt, session, url)
+    _evaluate(dt, session, "window.sunsetPlayer.pause(), window.sunsetPlayer.draw(0, 0), true")
+    before = _canvas(dt, session)
+    _evaluate(dt, session, "document.querySelector('#sunset-player [data-role=follow]').click(), "
+                           "window.sunsetPlayer.play(), true")
+    time.sleep(1.5)
+    after = _canvas(dt, session)
+    st = _evaluate(dt, session, "({frame: sunsetPlayer.state.frame, hour: sunsetPlayer.state.hour, "
+                                "playing: sunsetPlayer.state.playing})")
+    events += dt.events()
+    problems += [f"{rel}: {x}" for x in network_problems(events, session, base)]
+    if before == after:
+        problems.append(f"{rel}: playing did not change the canvas")
+    if st["hour"] == 0:
+        problems.append(f"{rel}: the sun did not move while the player played with 'the sun sets' on")
+    lines.append(f"{rel}: after 1.5 s of play: frame {st['frame']}, grid hour {st['hour']}, canvas changed: "
+                 f"{before != after}")
+
+    # The benchmark: draws at the player's resolution (compose + putImageData), ms each,
+    # timed in blocks of ten (the page's timer ticks in 0.1 ms).
+    _evaluate(dt, session, "window.sunsetPlayer.pause(), window.sunsetPlayer.bench(5), true")
+    runs = [_evaluate(dt, session, f"window.sunsetPlayer.bench({PLAYER_BENCH_BLOCKS})")
+            for _ in range(PLAYER_BENCH_RUNS)]
+    medians = [statistics.median(r) for r in runs]
+    every = [t for r in runs for t in r]
+    bench = {"width": data["width"], "height": data["height"], "draws_per_run": 10 * PLAYER_BENCH_BLOCKS,
+             "runs": PLAYER_BENCH_RUNS, "median_ms": statistics.median(every), "run_medians_ms": medians,
+             "p95_ms": sorted(every)[int(0.95 * (len(every) - 1))],
+             "chromium": dt.call("Browser.getVersion").get("product", "?"), "chromium_flags": CHROMIUM_FLAGS,
+             "cpus": os.cpu_count(), "load_average": os.getloadavg()[0],
+             "date": time.strftime("%Y-%m-%d", time.gmtime())}
+    bench_out.write_text(json.dumps(bench, indent=1) + "\n", encoding="utf-8")
+    lines.append(f"{rel}: draw {data['width']}x{data['height']}: median {bench['median_ms']:.3f} ms "
+                 f"(run medians {', '.join(f'{m:.3f}' for m in medians)} ms; p95 {bench['p95_ms']:.3f} ms) "
+                 f"-> {bench_out}")
+
+    # A file written by `sunset player`, opened from disk: no server, no network.
+    with tempfile.TemporaryDirectory(prefix="sunset-player-") as tmp:
+        html = Path(tmp) / "player.html"
+        run = subprocess.run([sys.executable, "-m", "sunset", "player", "carlas-island", "-o", str(html),
+                              *STANDALONE_ARGS], capture_output=True, text=True, cwd=BOOK.parent)
+        if run.returncode != 0 or not html.is_file():
+            problems.append(f"sunset player failed (exit {run.returncode}): {run.stderr.strip()[-300:]}")
+        else:
+            file_url = html.as_uri()
+            sdata = read_player_data(html.read_text(encoding="utf-8"))
+            cases = [(0, sdata["hours"][0]), (sdata["frames"] - 1, sdata["hours"][-1])]
+            p, out = _compare_dumps(dt, session, file_url, file_url, sdata, cases, need_rim=False)
+            problems += [f"sunset player file: {x}" for x in p]
+            lines += [f"sunset player file: {x}" for x in out]
+    return problems, lines
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -428,6 +650,12 @@ def main(argv: list[str] | None = None) -> int:
                       flush=True)
                 if problems:
                     failures[rel] = problems
+            problems, lines = check_player(dt, session, base, root, pages, root.parent / "player-bench.json")
+            for line in lines:
+                print(f"browser_check: player: {line}", flush=True)
+            print(f"browser_check: {'ok' if not problems else 'FAIL':4} the colour-table player", flush=True)
+            if problems:
+                failures["player"] = problems
         except BrowserError as exc:
             tail = log.read_text(errors="replace")[-2000:] if log.exists() else ""
             print(f"browser_check: {exc}\n--- chromium log (tail) ---\n{tail}", file=sys.stderr)

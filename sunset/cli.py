@@ -1,4 +1,4 @@
-"""The ``sunset`` command: figures, one frame, a tape's exposure, the film.
+"""The ``sunset`` command: figures, one frame, a tape's exposure, the film, the player.
 
 Every user error (a bad scene file, a bad number, an unknown figure, an
 unwritable output, a damaged tape) prints one line ``sunset: error: …`` and
@@ -28,6 +28,9 @@ EXAMPLES = {
     "film": """examples:
   sunset film my.toml --frames 16 --size 320x320 -o film.mp4
   sunset film my.toml --from-hours 1.5 --to-hours -0.25 -o film.mp4 --preview film.gif""",
+    "player": """examples:
+  sunset player carlas-island -o carla.html         # open carla.html in a browser, no network needed
+  sunset player my.toml -o my.html --frames 16 --size 320x320 --from-hours 3 --to-hours -0.25""",
     "scene": """examples:
   sunset scene > my.toml""",
 }
@@ -149,6 +152,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tape", help="also write the cycle's tape here")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
+    p = add("player", "Write the colour-table player: one wave cycle and an afternoon of colour tables in one "
+                      "self-contained HTML file.")
+    p.add_argument("scene", help="scene TOML file (or a packaged scene name)")
+    p.add_argument("-o", "--output", required=True, help="output HTML file")
+    p.add_argument("--frames", type=_count, default=32, help="frames per wave cycle (default 32)")
+    p.add_argument("--size", type=_size, help="WxH in pixels (default: the scene's picture, 512 on its longer side)")
+    p.add_argument("--from-hours", type=_number, default=1.5, help="hours before sunset at the start of the "
+                                                                   "hours slider (default 1.5)")
+    p.add_argument("--to-hours", type=_number, default=-0.25, help="hours before sunset at its end (default -0.25)")
+    p.add_argument("--reflections", type=int, choices=(0, 1, 2), default=2)
+    p.add_argument("--seed", type=_seed, default=0)
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
     add("scene", "Print the default scene as TOML, to start a scene file from.")
     return parser
 
@@ -202,13 +218,23 @@ def _cmd_film(args) -> None:
               tape_path=args.tape, progress=not args.quiet)
 
 
+def _cmd_player(args) -> None:
+    from .io import check_writable
+    from .recorder.player import HTML_SUFFIXES, write_player
+
+    check_writable(args.output, HTML_SUFFIXES)          # before the long work
+    scene = _load_scene(args.scene)
+    write_player(scene, args.output, frames=args.frames, size=args.size, from_hours=args.from_hours,
+                 to_hours=args.to_hours, reflections=args.reflections, seed=args.seed, progress=not args.quiet)
+
+
 def _cmd_scene(args) -> None:
     from .model.scene import Scene
 
     sys.stdout.write(Scene.default().to_toml())
 
 
-COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expose, "film": _cmd_film,
+COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expose, "film": _cmd_film, "player": _cmd_player,
             "scene": _cmd_scene}
 
 

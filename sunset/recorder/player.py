@@ -1,0 +1,405 @@
+"""The Dicomed in the browser: one wave cycle of codes, the tables of an afternoon, a player.
+
+Colour-table animation needs only three things: the codes of one wave cycle
+(the tape), a colour table for every hour, and where the sun's disk falls on
+the picture at that hour. This module computes all three in Python, packs
+them into one JSON document and writes them, with a small plain-JavaScript
+player (``player.js``, ``player.css`` and ``player.html`` beside this file),
+into one HTML file that works from disk with no network. The JavaScript
+computes nothing of its own: it looks entries up in the tables Python made
+and composes them exactly as :func:`sunset.expose` does (:func:`compose` is
+the same composition in NumPy, the export format's reference).
+
+What the player's data holds
+----------------------------
+``codes``
+    Frame F of an N-frame cycle is the sea at t = F·T/N (T the sea's period,
+    :func:`~sunset.recorder.film.cycle_times`), one lossless 8-bit greyscale PNG per
+    frame, base64.
+``hours``, ``tables``
+    A grid of hours before sunset from ``from_hours`` to ``to_hours``, both
+    ends included (:func:`hours_grid`), and for each grid hour the three
+    256-entry tables of :func:`~sunset.recorder.colour_tables.tables`, M × 3 × 256 bytes,
+    base64.
+``sun``
+    For each grid hour, the sun's disk on the picture: the smallest box of
+    pixels it covers (above the horizon), and in it each pixel's coverage as
+    a count k of the s × s sub-samples inside the disk (coverage = k/s², the
+    value :func:`~sunset.recorder.dicomed.sun_coverage` computes), with the sun's
+    colour in linear light (:func:`~sunset.recorder.colour_tables.sun_colour`); ``null``
+    when no pixel is covered. ``elevation`` is the sun's height, degrees.
+``decode``, ``encode``
+    The sRGB byte → linear value table the sun-disk mix decodes with, and the
+    255 linear values at which the encoded and rounded byte steps up
+    (:func:`encode_thresholds`): byte(x) = the number of thresholds <= x,
+    exactly what :func:`sunset.expose` rounds to, with no power function in
+    JavaScript.
+``groups``, ``meanings``
+    The code map (name, first, last code and a label per group) and, for
+    each of the 256 codes, what its number says (the code inspector).
+
+The sun-disk rule, as :func:`sunset.expose` applies it: a pixel of the box
+whose code is a sky code (sky, track or halo) and whose coverage w is not 0
+is exposed in (1 − w)·table + w·sun, mixed in linear light and encoded back.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+import math
+import os
+import re
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, RADIANS_PER_HOUR, SUN_SUPERSAMPLE
+from ..errors import SunsetError, require_finite, require_int_range
+from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
+from ..tape.codes import CODE_MAP, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations
+from .colour_tables import sun_colour, tables
+from .dicomed import sun_coverage
+from .film import FILM_CYCLES, _bar, cycle_times, render_cycle
+
+__all__ = ["PLAYER_FRAMES", "PLAYER_LONG_SIDE", "PLAYER_MAX_BYTES", "PLAYER_HOURS_STEP", "PLAYER_FORMAT", "HTML_SUFFIXES",
+           "hours_grid", "player_size", "encode_thresholds", "quantise", "sun_geometry", "code_meanings",
+           "player_data", "player_fragment", "player_html", "read_player_data", "decode_codes", "data_tables",
+           "nearest_hour", "compose", "write_player"]
+
+#: Frames of the wave cycle in the player (as in the film of ``make figures``).
+PLAYER_FRAMES = 32
+
+#: The player's longer side in pixels, when no size is asked for (see the book's player page for why).
+PLAYER_LONG_SIDE = 512
+
+#: Largest step of the hours grid: 1.5 minutes, 0.375° of the sun's course, half its (enlarged) radius.
+PLAYER_HOURS_STEP = 0.025
+
+#: What the player's data may weigh in a page of the book, bytes (its JSON, PNG frames as base64).
+PLAYER_MAX_BYTES = 8_000_000
+
+#: Version tag of the player's data document.
+PLAYER_FORMAT = "sunset-player/1"
+
+#: Name endings of the player's HTML file.
+HTML_SUFFIXES = (".html", ".htm")
+
+_DATA_ID = "sunset-player-data"
+
+
+# --------------------------------------------------------------------------- the grid of hours
+def hours_grid(from_hours: float, to_hours: float, step: float = PLAYER_HOURS_STEP) -> np.ndarray:
+    """Hours before sunset of the player's tables: evenly spaced, both ends included.
+
+    The fewest points whose spacing is at most ``step``: ``from_hours`` first
+    and ``to_hours`` last, exactly; one point when they are equal.
+    """
+    require_finite("from_hours", from_hours)
+    require_finite("to_hours", to_hours)
+    require_finite("step", step)
+    if not step > 0:
+        raise SunsetError(f"step must be positive, got {step!r}")
+    a, b = float(from_hours), float(to_hours)
+    if a == b:
+        return np.array([a])
+    count = int(math.ceil(abs(b - a) / step - 1e-9)) + 1
+    grid = np.linspace(a, b, count)
+    grid[0], grid[-1] = a, b
+    return grid
+
+
+def nearest_hour(grid, hours: float) -> int:
+    """Index of the grid hour nearest ``hours`` (the first of two equally near)."""
+    g = np.asarray(grid, dtype=float)
+    return int(np.argmin(np.abs(g - float(hours))))
+
+
+def player_size(scene, long_side: int = PLAYER_LONG_SIDE) -> tuple[int, int]:
+    """The scene's picture scaled so that its longer side is ``long_side`` pixels: (width, height)."""
+    require_int_range("long_side", long_side, 1)
+    w, h = scene.camera.width, scene.camera.height
+    k = long_side / max(w, h)
+    return max(1, round(w * k)), max(1, round(h * k))
+
+
+# --------------------------------------------------------------------------- exact rounding as lookups
+def quantise(lin) -> np.ndarray:
+    """Linear value → the sRGB byte :func:`sunset.expose` writes (encode, round, clip)."""
+    return to_uint8(srgb_encode(np.asarray(lin, dtype=np.float64)))
+
+
+def encode_thresholds() -> np.ndarray:
+    """For b = 1 … 255, the smallest float64 x >= 0 whose byte (:func:`quantise`) is at least b.
+
+    Found by bisection on the bit patterns of float64 (positive floats order
+    like their bits), so the thresholds are exact: for every x,
+    ``quantise(x)`` equals the number of thresholds <= x.
+    """
+    b = np.arange(1, 256)
+    lo = np.full(b.shape, np.float64(0.0).view(np.int64))     # quantise(lo) < b
+    hi = np.full(b.shape, np.float64(1.0).view(np.int64))     # quantise(hi) >= b
+    while np.any(hi - lo > 1):
+        mid = lo + (hi - lo) // 2
+        ok = quantise(mid.view(np.float64)) >= b
+        hi = np.where(ok, mid, hi)
+        lo = np.where(ok, lo, mid)
+    return hi.view(np.float64)
+
+
+# --------------------------------------------------------------------------- the sun on the picture
+def sun_geometry(scene, hours: float, supersample: int = SUN_SUPERSAMPLE) -> dict | None:
+    """The sun's disk on the picture ``hours`` before sunset, as the player needs it.
+
+    Returns
+    -------
+    dict or None
+        ``r0``, ``c0`` (first row and column), ``h``, ``w`` (size of the
+        smallest box holding every pixel the disk covers), ``cover`` (h·w
+        counts k, row by row: the pixel's coverage is k/s², s =
+        ``supersample``) and ``colour`` (the sun's colour, linear, 3 floats);
+        None when the disk covers no pixel.
+    """
+    rows, cols, cov = sun_coverage(scene.camera, scene.sun, hours, supersample)
+    if not cov.size or not np.any(cov > 0):
+        return None
+    n2 = supersample * supersample
+    k = np.rint(cov * n2).astype(np.int64)
+    if not np.array_equal(k / n2, cov):     # coverage is a mean of s² samples, so k/s² is exact
+        raise AssertionError("sun coverage is not a whole number of sub-samples")
+    rr, cc = np.nonzero(k)
+    k = k[rr.min():rr.max() + 1, cc.min():cc.max() + 1]
+    return {"r0": int(rows.start + rr.min()), "c0": int(cols.start + cc.min()), "h": int(k.shape[0]),
+            "w": int(k.shape[1]), "cover": [int(v) for v in k.ravel()],
+            "colour": [float(v) for v in sun_colour(scene.sun, hours)]}
+
+
+# --------------------------------------------------------------------------- what the codes say
+#: A label for each group of the code map, for the inspector.
+GROUP_LABELS = {"hill": "green island hill", "cliff": "brown island cliff", "beach": "tan beach",
+                "sky": "sky", "track": "sun track (glitter)", "halo": "halo beside the track"}
+
+
+def code_meanings(sun) -> list[str]:
+    """For each of the 256 codes, what its number says about the pixel (one line each)."""
+    cmap = CODE_MAP
+    out = [""] * 256
+    for rng in cmap.islands:
+        rh = island_code_rho(rng.size)
+        psi = np.degrees(sun_plane_angle(rh))
+        for k in range(rng.size):
+            out[rng.start + k] = (f"ρ̂(N) band {k} of {rng.size}: ρ̂ ≈ {rh[k]:+.2f}, the normal's sun-plane angle "
+                                  f"ψ ≈ {psi[k]:.0f}°; lit when cos(θ − ψ) > 0")
+    z = sky_code_z(cmap.sky.size)
+    for k in range(cmap.sky.size):
+        out[cmap.sky.start + k] = (f"R_z band {k} of {cmap.sky.size} (√R_z coded): R_z ≈ {z[k]:.4f}, "
+                                   f"{math.degrees(math.asin(z[k])):.2f}° above the horizon")
+    for rng, where in ((cmap.track, "within δ of the sun's plane"), (cmap.halo, "within 3δ of the sun's plane")):
+        e = np.degrees(track_code_elevations(rng.size, sun))
+        for k in range(rng.size):
+            out[rng.start + k] = (f"R_z band {k} of {rng.size}: a reflected ray {e[k]:.2f}° up, {where}; "
+                                  f"sun-coloured when the sun stands {e[k]:.2f}° high")
+    return out
+
+
+# --------------------------------------------------------------------------- the data document
+def _b64(data: bytes) -> str:
+    return base64.b64encode(data).decode("ascii")
+
+
+def _png(codes: np.ndarray) -> bytes:
+    from ..io import png_bytes
+
+    return png_bytes(codes)
+
+
+def player_data(tape, grid, start_hours: float | None = None, progress: bool = False) -> dict:
+    """Everything the player needs, as one JSON-ready dict (see the module's docstring).
+
+    Parameters
+    ----------
+    tape : Tape
+        One wave cycle of codes (:func:`~sunset.recorder.film.render_cycle`).
+    grid : array_like (M,)
+        Hours before sunset of the tables (:func:`hours_grid`).
+    start_hours : float, optional
+        The hour the player opens at (the grid hour nearest it); default the first.
+    progress : bool
+        Show a progress bar on stderr while the tables are computed.
+    """
+    scene = tape.scene
+    grid = np.asarray(grid, dtype=np.float64).reshape(-1)
+    if grid.size == 0:
+        raise SunsetError("the hours grid is empty")
+    require_finite("hours", grid)
+    start = float(grid[0]) if start_hours is None else float(start_hours)
+    require_finite("start_hours", start)
+    sun = scene.sun
+    tabs, suns = [], []
+    with _bar(grid.size, "colour tables", progress) as bar:
+        for h in grid:
+            tabs.append(tables(sun, float(h)))
+            suns.append(sun_geometry(scene, float(h)))
+            bar.update(1)
+    period = scene.sea.period
+    return {
+        "format": PLAYER_FORMAT,
+        "sunset_version": tape.version,
+        "title": scene.title or "sunset",
+        "width": int(scene.camera.width),
+        "height": int(scene.camera.height),
+        "frames": len(tape),
+        "period": None if period is None else float(period),
+        "times": [float(t) for t in tape.times],
+        "reflections": int(tape.reflections),
+        "seed": int(tape.seed),
+        "fps": FILM_FPS,
+        "cycles": FILM_CYCLES,
+        "codes": [_b64(_png(c)) for c in tape.codes],
+        "hours": [float(h) for h in grid],
+        "start_hours": start,
+        "elevation": [float(np.degrees(sun.elevation(float(h)))) for h in grid],
+        "tables": _b64(np.ascontiguousarray(np.stack(tabs)).tobytes()),
+        "sun": suns,
+        "supersample": SUN_SUPERSAMPLE,
+        "decode": [float(v) for v in DECODE_LUT],
+        "encode": [float(v) for v in encode_thresholds()],
+        "sky_start": CODE_MAP.sky.start,
+        "groups": [{"name": r.name, "first": r.start, "last": r.stop - 1, "label": GROUP_LABELS[r.name]}
+                   for r in CODE_MAP.ranges],
+        "meanings": code_meanings(sun),
+        "scene": scene.to_toml(),
+    }
+
+
+def _data_json(data: dict) -> str:
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"), ensure_ascii=True, allow_nan=False)
+    return text.replace("</", "<\\/")        # JSON's own escape: the script element cannot end early
+
+
+def _asset(name: str) -> str:
+    return (resources.files(__package__) / name).read_text(encoding="utf-8")
+
+
+def player_fragment(data: dict) -> str:
+    """The player as an HTML fragment (markup, style, data and script) to embed in a page."""
+    markup = _asset("player.html").replace("{{TITLE}}", html.escape(data["title"]))
+    return (f"<style>\n{_asset('player.css')}</style>\n{markup}"
+            f'<script type="application/json" id="{_DATA_ID}">{_data_json(data)}</script>\n'
+            f"<script>\n{_asset('player.js')}</script>\n")
+
+
+def player_html(data: dict) -> str:
+    """The player as one self-contained HTML document: nothing is loaded from anywhere."""
+    title = html.escape(f"{data['title']}: the colour-table player")
+    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+            f"<title>{title}</title>\n</head>\n<body>\n{player_fragment(data)}</body>\n</html>\n")
+
+
+def read_player_data(text: str) -> dict:
+    """The data document embedded in a player page (its HTML text)."""
+    m = re.search(rf'<script type="application/json" id="{_DATA_ID}">(.*?)</script>', text, flags=re.S)
+    if m is None:
+        raise SunsetError("no sunset player data in this page")
+    data = json.loads(m.group(1))
+    if data.get("format") != PLAYER_FORMAT:
+        raise SunsetError(f"player data format {data.get('format')!r} is not {PLAYER_FORMAT!r}")
+    return data
+
+
+def decode_codes(data: dict) -> np.ndarray:
+    """The codes of every frame, (N, H, W) uint8, decoded from the data's PNGs."""
+    from PIL import Image
+
+    frames = []
+    for b64 in data["codes"]:
+        with Image.open(io.BytesIO(base64.b64decode(b64))) as img:
+            if img.mode != "L":
+                raise SunsetError(f"player codes must be 8-bit greyscale PNG, got mode {img.mode}")
+            frames.append(np.asarray(img, dtype=np.uint8))
+    return np.stack(frames)
+
+
+def data_tables(data: dict) -> np.ndarray:
+    """The tables of every grid hour, (M, 3, 256) uint8."""
+    raw = np.frombuffer(base64.b64decode(data["tables"]), dtype=np.uint8)
+    return raw.reshape(len(data["hours"]), 3, 256)
+
+
+def compose(data: dict, frame: int, hour: int, codes: np.ndarray | None = None) -> np.ndarray:
+    """What ``player.js`` draws for a frame and a grid hour (an index), in NumPy: (H, W, 3) uint8.
+
+    Table lookup in each pass, then the sun's disk from the exported
+    coverage, mixed in linear light and rounded through the exported
+    thresholds. The reference of the data format: it must equal
+    :func:`sunset.expose` on the same codes and hour.
+    """
+    codes = decode_codes(data)[frame] if codes is None else codes
+    tab = data_tables(data)[hour]
+    rgb = np.stack([tab[k][codes] for k in range(3)], axis=-1)
+    s = data["sun"][hour]
+    if s is not None:
+        rows, cols = slice(s["r0"], s["r0"] + s["h"]), slice(s["c0"], s["c0"] + s["w"])
+        k = np.asarray(s["cover"], dtype=np.int64).reshape(s["h"], s["w"])
+        n2 = data["supersample"] ** 2
+        use = (k > 0) & (codes[rows, cols] >= data["sky_start"])
+        w = (k / n2)[..., None]
+        box = np.asarray(data["decode"])[rgb[rows, cols]]
+        mixed = (1.0 - w) * box + w * np.asarray(s["colour"])
+        byte = np.searchsorted(np.asarray(data["encode"]), mixed, side="right").astype(np.uint8)
+        rgb[rows, cols] = np.where(use[..., None], byte, rgb[rows, cols])
+    return rgb
+
+
+# --------------------------------------------------------------------------- the file
+def write_player(scene, path: str | os.PathLike, frames: int = PLAYER_FRAMES, size: tuple[int, int] | None = None,
+                 from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, reflections: int = 2,
+                 seed: int = 0, progress: bool = True) -> Path:
+    """Render one wave cycle and write the player as one self-contained HTML file (``sunset player``).
+
+    Every argument is checked before any work; the file is written
+    atomically, so an error or an interrupt leaves no partial file.
+
+    Parameters
+    ----------
+    scene : Scene
+    path : path
+        Output file, ``.html`` or ``.htm``.
+    frames : int
+        N, frames of the wave cycle.
+    size : (int, int), optional
+        (width, height) in pixels; default the scene's picture with its longer
+        side :data:`PLAYER_LONG_SIDE`.
+    from_hours, to_hours : float
+        The range of the hours slider (hours before sunset).
+    reflections, seed : int
+        As for :func:`~sunset.recorder.film.render_cycle`.
+    progress : bool
+        Progress bars on stderr.
+
+    Returns
+    -------
+    Path
+    """
+    from ..io import check_writable, write_bytes
+
+    path = check_writable(path, HTML_SUFFIXES)
+    require_int_range("frames", frames, 1)
+    require_int_range("reflections", reflections, 0, 2)
+    require_int_range("seed", seed, 0, 2**32 - 1)
+    grid = hours_grid(from_hours, to_hours)
+    half_day = math.pi / RADIANS_PER_HOUR           # the sun goes round its circle in 24 h
+    for name, value in (("from_hours", from_hours), ("to_hours", to_hours)):
+        if abs(value) > half_day:
+            raise SunsetError(f"{name} must be within ±{half_day:g} hours of sunset (the sun's circle takes "
+                              f"{2 * half_day:g} h), got {value!r}")
+    cycle_times(scene, frames)                       # a sea that never repeats fails here, before the work
+    scene = scene.with_size(*(size or player_size(scene)))
+    tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress)
+    data = player_data(tape, grid, progress=progress)
+    write_bytes(path, player_html(data).encode("utf-8"))
+    return path
