@@ -40,6 +40,8 @@ STOKES_MAX_STEEPNESS = 0.1411
 #: Surface classes in Frame.surface.
 SKY = -1
 SEA = 0
+#: What a ray meets in a cloud layer (sunset/model/clouds.py), in Frame.surface and Frame.final_surface.
+CLOUD = -2
 
 #: Island parts in Frame.part.
 PART_NONE = 0
@@ -234,3 +236,24 @@ MAX_TAPE_BYTES = 2**31
 
 #: Most frames per second of a film.
 MAX_FPS = 240
+
+# ---------------------------------------------------------------------------
+# Clouds by height functions (sunset/model/clouds.py, sunset/vector/clouds.py), the paper's last proposal.
+
+#: Albedo of a cloud (single-scattering albedo of water droplets is ≈ 1; a thick
+#: cloud reflects 0.6–0.9 of the light falling on it): chosen, not measured.
+CLOUD_ALBEDO = 0.8
+#: Depth below the mean cloud level over which the direct sunlight inside a cloud falls by 1/e, metres (chosen).
+CLOUD_ATTENUATION_LENGTH = 150.0
+#: Share of the direct sunlight that multiple scattering carries to any depth of a cloud (chosen).
+CLOUD_MULTIPLE_SCATTERING = 0.12
+#: Most cells in one cloud layer, and the highest mean level (the top of the troposphere), metres.
+CLOUD_MAX_CELLS = 64
+CLOUD_MAX_LEVEL = 15000.0
+#: Code map of a scene with clouds: the cloud range (by depth below the mean level) takes
+#: codes from the islands and the sky; the track and halo keep theirs. Sums to N_CODES.
+CLOUDY_CODES_HILL = 32
+CLOUDY_CODES_CLIFF = 32
+CLOUDY_CODES_BEACH = 16
+CLOUDY_CODES_CLOUD = 32
+CLOUDY_CODES_SKY = 48

@@ -7,6 +7,8 @@ A scene file has four parts, each checked on load::
     [[sea.trains]]    the wave trains of eq. 1               (sunset.model.waves.WaveTrain)
     [[islands]]       paraboloids and cosine hills, eqs. 3–4 (sunset.model.islands.Island)
                       with [islands.cliff], [islands.beach], [[islands.cosines]]
+    [clouds]          optional: a cloud layer, its mean level and [[clouds.cells]]
+                      with [[clouds.cells.billows]]   (sunset.model.clouds.Clouds)
 
 An unknown key, a missing field, a value of the wrong type, a NaN, a
 non-positive size, an island behind the eye or an eye below the sea raises a
@@ -25,6 +27,7 @@ from importlib import resources
 from pathlib import Path
 
 from .camera import Camera
+from .clouds import Billow, CloudCell, Clouds
 from ..errors import SunsetError
 from .islands import Cosine, Island, Paraboloid
 from .sun import Sun
@@ -43,6 +46,7 @@ class Scene:
     sea: Sea = field(default_factory=Sea)
     islands: tuple[Island, ...] = field(default_factory=tuple)
     title: str = ""
+    clouds: Clouds | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "islands", tuple(self.islands))
@@ -52,6 +56,9 @@ class Scene:
             if ground >= h:
                 raise SunsetError(f"islands[{k}] puts the eye inside it: its surface at the eye (x = y = 0) is "
                                   f"{ground:.3g} m above the sea, the eye only {h:g} m")
+        if self.clouds is not None and self.clouds.base <= h:
+            raise SunsetError(f"clouds: the eye ({h:g} m) must be below the cloud base "
+                              f"({self.clouds.base:g} m: the level less the deepest cloud)")
 
     # -- derived scenes -------------------------------------------------------
     def still(self) -> "Scene":
@@ -130,7 +137,9 @@ def default_scene() -> Scene:
 # Generic validated loading of the frozen dataclasses above.
 
 _NESTED = {
-    Scene: {"camera": Camera, "sun": Sun, "sea": Sea, "islands": Island},
+    Scene: {"camera": Camera, "sun": Sun, "sea": Sea, "islands": Island, "clouds": Clouds},
+    Clouds: {"cells": CloudCell},
+    CloudCell: {"billows": Billow},
     Sea: {"trains": WaveTrain},
     Island: {"cliff": Paraboloid, "beach": Paraboloid, "cosines": Cosine},
 }
@@ -146,6 +155,7 @@ def _field_types(cls) -> dict[str, typing.Any]:
 _OPTIONAL = {
     (Scene, "title"), (Scene, "sea"), (Scene, "islands"), (Sea, "trains"),
     (WaveTrain, "phase"), (WaveTrain, "stokes_order"), (Island, "name"), (Island, "cosines"),
+    (Scene, "clouds"), (CloudCell, "billows"),
 }
 
 
@@ -218,6 +228,8 @@ def _unbuild(obj):
         out = {}
         for f in dataclasses.fields(obj):
             v = getattr(obj, f.name)
+            if v is None:                      # an optional part left out (a scene without clouds)
+                continue
             if isinstance(v, tuple):
                 out[f.name] = [_unbuild(x) for x in v]
             else:

@@ -27,8 +27,9 @@ from ..errors import require_finite
 from ..model.eye import exposure_key, film_response, srgb_encode, to_uint8
 from ..model.sky import (direct_irradiance, elevation, irradiance, island_normals, sky_dome, sky_radiance,
                          spectral_data, sun_radiance)
+from ..model.clouds import Clouds, cloud_radiance
 from ..model.sun import Sun
-from ..tape.codes import (CODE_MAP, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
+from ..tape.codes import (CLOUDY_CODE_MAP, CODE_MAP, cloud_code_depths, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
                           track_elevation_max)
 
 __all__ = ["tables", "tables_linear", "sun_colour"]
@@ -64,9 +65,9 @@ def _island_factors(theta: float, size: int) -> np.ndarray:
     return (f * w).sum(axis=1) / w.sum()
 
 
-def _tables_linear(sun: Sun, hours: float) -> tuple[np.ndarray, np.ndarray]:
+def _tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The three passes' tables as linear film response, shape (256, 3), and the sun's colour (3,)."""
-    cmap = CODE_MAP
+    cmap = CLOUDY_CODE_MAP if clouds is not None else CODE_MAP
     theta = float(Sun.theta(hours))
     p = sun.position(hours)
     e_sun = elevation(p)
@@ -107,19 +108,24 @@ def _tables_linear(sun: Sun, hours: float) -> tuple[np.ndarray, np.ndarray]:
         skylight = np.einsum("kj,kjl->kl", w, irradiance(normals, *dome))
         radiance = sp.reflectance[name] * (direct * cos_beta * f + skylight) / math.pi
         out[rng.start:rng.stop] = film_response(radiance, key)
+
+    # clouds: lit by the sun at their own altitude, shaded by depth below the mean level
+    if clouds is not None:
+        depth = cloud_code_depths(cmap.cloud.size, clouds.max_top, clouds.max_bottom)
+        out[cmap.cloud.start:cmap.cloud.stop] = film_response(cloud_radiance(depth, p, clouds, delta), key)
     return out, sun_lin
 
 
 @functools.lru_cache(maxsize=4096)
-def _tables_cached(sun: Sun, hours: float) -> tuple[np.ndarray, np.ndarray]:
-    lin, sun_lin = _tables_linear(sun, hours)
+def _tables_cached(sun: Sun, hours: float, clouds: Clouds | None = None) -> tuple[np.ndarray, np.ndarray]:
+    lin, sun_lin = _tables_linear(sun, hours, clouds)
     t = np.ascontiguousarray(to_uint8(srgb_encode(lin)).T)
     t.setflags(write=False)
     sun_lin.setflags(write=False)
     return t, sun_lin
 
 
-def tables(sun: Sun, hours: float) -> np.ndarray:
+def tables(sun: Sun, hours: float, clouds: Clouds | None = None) -> np.ndarray:
     """The film recorder's translation tables for the sun ``hours`` before sunset.
 
     Parameters
@@ -128,6 +134,8 @@ def tables(sun: Sun, hours: float) -> np.ndarray:
         The sun's circle (U, V, W) and radius δ.
     hours : float
         Hours before sunset (θ = 15°/h); negative after sunset.
+    clouds : Clouds, optional
+        The scene's cloud layer: the tables then follow :data:`~sunset.tape.codes.CLOUDY_CODE_MAP`.
 
     Returns
     -------
@@ -135,16 +143,16 @@ def tables(sun: Sun, hours: float) -> np.ndarray:
         One 256-entry table for each pass: red, green, blue.
     """
     require_finite("hours", hours)
-    return _tables_cached(sun, float(hours))[0]
+    return _tables_cached(sun, float(hours), clouds)[0]
 
 
-def tables_linear(sun: Sun, hours: float) -> np.ndarray:
+def tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> np.ndarray:
     """The same tables before the sRGB encoding and rounding: linear film response, (3, 256) float."""
     require_finite("hours", hours)
-    return _tables_linear(sun, float(hours))[0].T
+    return _tables_linear(sun, float(hours), clouds)[0].T
 
 
-def sun_colour(sun: Sun, hours: float) -> np.ndarray:
+def sun_colour(sun: Sun, hours: float, clouds: Clouds | None = None) -> np.ndarray:
     """The film's linear response (3,) to the sun's disk ``hours`` before sunset (the "sun colour")."""
     require_finite("hours", hours)
-    return _tables_cached(sun, float(hours))[1]
+    return _tables_cached(sun, float(hours), clouds)[1]

@@ -28,7 +28,7 @@ from ..constants import SUN_SUPERSAMPLE
 from ..errors import SunsetError, require_finite
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
 from ..model.sun import Sun
-from ..tape.codes import CODE_MAP
+from ..tape.codes import code_map
 from .colour_tables import sun_colour, tables
 
 __all__ = ["PASSES", "sun_coverage", "expose"]
@@ -135,15 +135,16 @@ def expose(scene, codes, hours: float) -> np.ndarray:
         raise SunsetError(f"codes must be uint8, got {codes.dtype}")
     if codes.shape != (cam.height, cam.width):
         raise SunsetError(f"codes must have the camera's shape {(cam.height, cam.width)}, got {codes.shape}")
-    tab = tables(scene.sun, hours)
+    clouds = scene.clouds
+    tab = tables(scene.sun, hours, clouds)
     rgb = np.empty(codes.shape + (3,), np.uint8)
     for k, _colour in enumerate(PASSES):        # one exposure through each filter
         rgb[..., k] = tab[k][codes]
     rows, cols, cov = sun_coverage(cam, scene.sun, hours)
     if cov.size:
-        weight = np.where(CODE_MAP.reaches_sky(codes[rows, cols]), cov, 0.0)[..., None]
+        weight = np.where(code_map(scene).reaches_sky(codes[rows, cols]), cov, 0.0)[..., None]
         if np.any(weight > 0):
-            sun_lin = sun_colour(scene.sun, hours)
+            sun_lin = sun_colour(scene.sun, hours, clouds)
             box = DECODE_LUT[rgb[rows, cols]]
             mixed = (1.0 - weight) * box + weight * sun_lin
             rgb[rows, cols] = np.where(weight > 0, to_uint8(srgb_encode(mixed)), rgb[rows, cols])

@@ -61,7 +61,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import (CODES_BEACH, CODES_CLIFF, CODES_HALO, CODES_HILL, CODES_SKY, CODES_TRACK, HALO_FACTOR,
+from ..constants import (CLOUD, CLOUDY_CODES_BEACH, CLOUDY_CODES_CLIFF, CLOUDY_CODES_CLOUD, CLOUDY_CODES_HILL,
+                         CLOUDY_CODES_SKY, CODES_BEACH, CODES_CLIFF, CODES_HALO, CODES_HILL, CODES_SKY, CODES_TRACK, HALO_FACTOR,
                         N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY, TRACK_DITHER)
 from ..kernels import twin
 from ..errors import SunsetError
@@ -69,7 +70,7 @@ from ..vector.frame import Frame
 from ..model.sun import Sun
 
 __all__ = [
-    "CodeRange", "CodeMap", "CODE_MAP", "rho", "rho_hat", "sun_plane_angle", "island_offsets", "sky_index",
+    "CodeRange", "CodeMap", "CODE_MAP", "CLOUDY_CODE_MAP", "code_map", "cloud_index", "cloud_code_depths", "rho", "rho_hat", "sun_plane_angle", "island_offsets", "sky_index",
     "track_elevation_max", "elevation_index", "island_code_rho", "sky_code_z", "track_code_elevations",
     "encode",
 ]
@@ -113,6 +114,7 @@ class CodeMap:
     sky: CodeRange
     track: CodeRange
     halo: CodeRange
+    cloud: CodeRange | None = None
 
     def __post_init__(self):
         pos = 0
@@ -126,7 +128,8 @@ class CodeMap:
     @property
     def ranges(self) -> tuple[CodeRange, ...]:
         """All ranges, in code order."""
-        return (self.hill, self.cliff, self.beach, self.sky, self.track, self.halo)
+        clouds = (self.cloud,) if self.cloud is not None else ()
+        return (self.hill, self.cliff, self.beach) + clouds + (self.sky, self.track, self.halo)
 
     @property
     def islands(self) -> tuple[CodeRange, ...]:
@@ -152,22 +155,46 @@ class CodeMap:
         return [(r.name, r.start, r.stop - 1, r.description) for r in self.ranges]
 
 
-def _make_map() -> CodeMap:
-    sizes = [("hill", CODES_HILL, "green hill: A + ⌊B(ρ̂(N) + 1) + u⌋ mod 4B"),
-             ("cliff", CODES_CLIFF, "brown cliff: A + ⌊B(ρ̂(N) + 1) + u⌋ mod 4B"),
-             ("beach", CODES_BEACH, "tan beach: A + ⌊B(ρ̂(N) + 1) + u⌋ mod 4B"),
-             ("sky", CODES_SKY, "ray to the sky: ⌊n √R_z + u⌋"),
+def _make_map(hill: int = CODES_HILL, cliff: int = CODES_CLIFF, beach: int = CODES_BEACH, cloud: int = 0,
+              sky: int = CODES_SKY) -> CodeMap:
+    sizes = [("hill", hill, "green hill: A + ⌊B(ρ̂(N) + 1) + u⌋ mod 4B"),
+             ("cliff", cliff, "brown cliff: A + ⌊B(ρ̂(N) + 1) + u⌋ mod 4B"),
+             ("beach", beach, "tan beach: A + ⌊B(ρ̂(N) + 1) + u⌋ mod 4B"),
+             ("cloud", cloud, "cloud, by depth d below the mean level: ⌊n (d + T)/(T + B) + u⌋"),
+             ("sky", sky, "ray to the sky: ⌊n √R_z + u⌋"),
              ("track", CODES_TRACK, "reflected ray, |W·R| < sin δ: ⌊n e/e_max + u⌋, e = asin R_z"),
              ("halo", CODES_HALO, "reflected ray, sin δ <= |W·R| < sin 3δ: ⌊n e/e_max + u⌋")]
     ranges, pos = {}, 0
     for name, size, doc in sizes:
-        ranges[name] = CodeRange(name, pos, size, doc)
-        pos += size
+        if size:
+            ranges[name] = CodeRange(name, pos, size, doc)
+            pos += size
     return CodeMap(**ranges)
 
 
 #: The code map used by the vector stage and the film recorder alike.
 CODE_MAP = _make_map()
+
+#: The code map of a scene with clouds: a cloud range between the islands and the sky.
+CLOUDY_CODE_MAP = _make_map(CLOUDY_CODES_HILL, CLOUDY_CODES_CLIFF, CLOUDY_CODES_BEACH, CLOUDY_CODES_CLOUD,
+                            CLOUDY_CODES_SKY)
+
+
+def code_map(scene) -> CodeMap:
+    """The code map of a scene: :data:`CODE_MAP`, or :data:`CLOUDY_CODE_MAP` when it has clouds."""
+    return CLOUDY_CODE_MAP if getattr(scene, "clouds", None) is not None else CODE_MAP
+
+
+# --------------------------------------------------------------------------- clouds: depth
+def cloud_index(depth, size: int, top: float, bottom: float, u) -> np.ndarray:
+    """Index in the cloud range: ⌊n (d + T)/(T + B) + u⌋ clipped to 0..n−1, T and B the layer's greatest top and bottom."""
+    x = (np.asarray(depth, dtype=float) + top) * (size / (top + bottom))
+    return np.clip(np.floor(x + u).astype(np.int64), 0, size - 1)
+
+
+def cloud_code_depths(size: int, top: float, bottom: float) -> np.ndarray:
+    """The depth below the mean level (metres) each cloud index is centred on."""
+    return _dithered_centres(size) * ((top + bottom) / size) - top
 
 
 # --------------------------------------------------------------------------- islands: ρ(N)
@@ -333,7 +360,7 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
     cam = scene.camera
     _check_frame(frame, (cam.height, cam.width))
     sun = scene.sun
-    cmap = CODE_MAP
+    cmap = code_map(scene)
     shape = frame.shape
 
     rng = np.random.default_rng(seed)
@@ -342,6 +369,12 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
 
     codes = np.empty(shape, np.uint8)
     encode_pixels(codes, frame, u, v, sun, cmap)
+    if cmap.cloud is not None:  # clouds by depth below the mean level, seen directly or by reflection
+        cloud = np.asarray(frame.final_surface) == CLOUD
+        if np.any(cloud):
+            clouds = scene.clouds
+            codes[cloud] = cmap.cloud.start + cloud_index(frame.cloud_depth[cloud], cmap.cloud.size,
+                                                          clouds.max_top, clouds.max_bottom, u[cloud])
     return codes
 
 

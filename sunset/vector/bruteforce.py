@@ -301,3 +301,53 @@ def compare(frame, reference) -> dict:
             key = "median" if q == 50 else f"p{q}"
             out[f"{name}_normal_{key}"] = float(np.percentile(angle[mask], q)) if vals.size else float("nan")
     return out
+
+
+def cloud_hits(clouds, h: float, s, zeta, step: float | None = None) -> np.ndarray:
+    """Distance y of each ray's first entry into the cloud layer, NaN where it misses (brute force).
+
+    A ray x = s·y, z = h + ζ·y is inside the layer where
+    min(z − (Z − B), (Z + T) − z) >= 0 over the layer's domain (T + B > 0).
+    It can only be inside between the heights Z − max B and Z + max T, which
+    bracket y; it is marched in steps of ``step`` metres (default: a
+    thousandth of the smallest cell's smaller semi-axis) and refined by
+    bisection.
+    """
+    s = np.asarray(s, dtype=float).ravel()
+    zeta = np.asarray(zeta, dtype=float).ravel()
+    out = np.full(s.size, np.nan)
+    up = zeta > 0
+    if not up.any():
+        return out
+    if step is None:
+        step = min(min(c.a, c.b) for c in clouds.cells) / 1000.0
+    z_lo, z_hi = clouds.level - clouds.max_bottom, clouds.level + clouds.max_top
+    reach = max(math.hypot(c.x, c.y) + max(c.a, c.b) for c in clouds.cells)
+    su, zu = s[up], zeta[up]
+    y_lo = (z_lo - h) / zu
+    y_hi = np.minimum((z_hi - h) / zu, reach)
+
+    def fun(idx, y):
+        x, z = su[idx][:, None] * y, h + zu[idx][:, None] * y
+        T, B = clouds.thickness(x, y)
+        inside = np.minimum(z - (clouds.level - B), clouds.level + T - z)
+        return np.where(T + B > 0, inside, -1.0)
+
+    ok = y_lo < y_hi
+    y_lo = np.where(ok, y_lo, 0.0)
+    y_hi = np.where(ok, y_hi, 0.0)
+    a, b = _march(fun, y_lo, y_hi, step)
+    a = np.where(ok, a, np.nan)
+    out[np.nonzero(up)[0]] = _bisect(fun, a, b)
+    out[np.nonzero(up)[0][~ok]] = np.nan
+    return out
+
+
+def trace_clouds_bruteforce(scene, step: float | None = None) -> np.ndarray:
+    """1/y of the first cloud hit through every pixel centre, (H, W) rows from the top, 0 where none."""
+    cam = scene.camera
+    s = cam.s_centres()[None, :]
+    zeta = cam.zy_centres()[:, None]
+    s, zeta = np.broadcast_arrays(s, zeta)
+    y = cloud_hits(scene.clouds, cam.eye_height, s, zeta, step).reshape(s.shape)
+    return np.where(np.isfinite(y), 1.0 / np.where(np.isfinite(y), y, 1.0), 0.0)

@@ -53,6 +53,11 @@ class Frame:
         The island part of the final hit; 0 for sky.
     final_normal : ndarray (H, W, 3) float32
         Unit normal at the final hit (for islands); NaN for sky.
+    cloud_depth : ndarray (H, W) float32 or None
+        Only for a scene with clouds: the depth below the mean cloud level of
+        the cloud the ray finally meets, metres (negative above the level); NaN
+        where it meets none. ``surface`` and ``final_surface`` are
+        :data:`~sunset.constants.CLOUD` (−2) there.
     """
 
     t: float
@@ -68,6 +73,7 @@ class Frame:
     final_surface: np.ndarray | None = None
     final_part: np.ndarray | None = None
     final_normal: np.ndarray | None = None
+    cloud_depth: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, int]:

@@ -2,7 +2,9 @@
 
 ``render`` runs the paper's pipeline for the rays: direct rays by the
 height-field scan line (:mod:`sunset.vector.heightfield`, :mod:`sunset.model.islands`),
-then reflected rays (:mod:`sunset.vector.pierce`).
+then reflected rays (:mod:`sunset.vector.reflect`), and, when the scene
+has a cloud layer, the clouds seen directly and by reflection
+(:mod:`sunset.vector.clouds`).
 
 Reflection modes
 ----------------
@@ -40,14 +42,16 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
     Frame
         Direct-ray and final-ray fields for every pixel.
     """
+    from .clouds import add_clouds, reflected_clouds
     from .direct import trace_direct
     from .reflect import trace_reflections
 
     require_finite("t", t)
     require_int_range("reflections", reflections, 0, 2)
-    return trace_reflections(scene, trace_direct(scene, t), reflections)
-
-
-# --------------------------------------------------------------------------- many frames, both cores
-
-
+    frame = trace_direct(scene, t)
+    if scene.clouds is not None:
+        add_clouds(scene, frame)
+    trace_reflections(scene, frame, reflections)
+    if scene.clouds is not None:
+        reflected_clouds(scene, frame)
+    return frame
