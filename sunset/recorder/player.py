@@ -60,7 +60,7 @@ import numpy as np
 from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, RADIANS_PER_HOUR, SUN_SUPERSAMPLE
 from ..errors import SunsetError, require_finite, require_int_range
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
-from ..tape.codes import CODE_MAP, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations
+from ..tape.codes import CODE_MAP, cloud_code_depths, code_map, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations
 from .colour_tables import sun_colour, tables
 from .dicomed import sun_coverage
 from .film import FILM_CYCLES, _bar, cycle_times, render_cycle
@@ -174,19 +174,28 @@ def sun_geometry(scene, hours: float, supersample: int = SUN_SUPERSAMPLE) -> dic
     k = k[rr.min():rr.max() + 1, cc.min():cc.max() + 1]
     return {"r0": int(rows.start + rr.min()), "c0": int(cols.start + cc.min()), "h": int(k.shape[0]),
             "w": int(k.shape[1]), "cover": [int(v) for v in k.ravel()],
-            "colour": [float(v) for v in sun_colour(scene.sun, hours)]}
+            "colour": [float(v) for v in sun_colour(scene.sun, hours, scene.clouds)]}
 
 
 # --------------------------------------------------------------------------- what the codes say
 #: A label for each group of the code map, for the inspector.
 GROUP_LABELS = {"hill": "green island hill", "cliff": "brown island cliff", "beach": "tan beach",
-                "sky": "sky", "track": "sun track (glitter)", "halo": "halo beside the track"}
+                "sky": "sky", "track": "sun track (glitter)", "halo": "halo beside the track",
+                "cloud": "cloud (by depth below the mean level)"}
 
 
-def code_meanings(sun) -> list[str]:
-    """For each of the 256 codes, what its number says about the pixel (one line each)."""
-    cmap = CODE_MAP
+def code_meanings(sun, cmap=CODE_MAP, clouds=None) -> list[str]:
+    """For each of the 256 codes, what its number says about the pixel (one line each).
+
+    ``cmap`` is the scene's code map (:func:`~sunset.tape.codes.code_map`) and
+    ``clouds`` its cloud layer, if any.
+    """
     out = [""] * 256
+    if cmap.cloud is not None and clouds is not None:
+        d = cloud_code_depths(cmap.cloud.size, clouds.max_top, clouds.max_bottom)
+        for k in range(cmap.cloud.size):
+            out[cmap.cloud.start + k] = (f"cloud depth band {k} of {cmap.cloud.size}: {d[k]:+.0f} m below the mean "
+                                         f"cloud level ({clouds.level:g} m)")
     for rng in cmap.islands:
         rh = island_code_rho(rng.size)
         psi = np.degrees(sun_plane_angle(rh))
@@ -238,10 +247,11 @@ def player_data(tape, grid, start_hours: float | None = None, progress: bool = F
     start = float(grid[0]) if start_hours is None else float(start_hours)
     require_finite("start_hours", start)
     sun = scene.sun
+    cmap = code_map(scene)
     tabs, suns = [], []
     with _bar(grid.size, "colour tables", progress) as bar:
         for h in grid:
-            tabs.append(tables(sun, float(h)))
+            tabs.append(tables(sun, float(h), scene.clouds))
             suns.append(sun_geometry(scene, float(h)))
             bar.update(1)
     period = scene.sea.period
@@ -267,10 +277,10 @@ def player_data(tape, grid, start_hours: float | None = None, progress: bool = F
         "supersample": SUN_SUPERSAMPLE,
         "decode": [float(v) for v in DECODE_LUT],
         "encode": [float(v) for v in encode_thresholds()],
-        "sky_start": CODE_MAP.sky.start,
+        "sky_start": cmap.sky.start,
         "groups": [{"name": r.name, "first": r.start, "last": r.stop - 1, "label": GROUP_LABELS[r.name]}
-                   for r in CODE_MAP.ranges],
-        "meanings": code_meanings(sun),
+                   for r in cmap.ranges],
+        "meanings": code_meanings(sun, cmap, scene.clouds),
         "scene": scene.to_toml(),
     }
 

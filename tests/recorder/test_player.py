@@ -333,3 +333,23 @@ def test_cli_player_bad_scene(capsys, tmp_path):
     assert list(tmp_path.iterdir()) == []
     code, _, err = run(capsys, "player", "carlas-island")
     assert code == 2 and "-o" in err
+
+
+def test_a_cloudy_scene_plays_with_its_own_code_map():
+    """Clouds change the code map; the player's data follows the scene and still composes to expose."""
+    from dataclasses import replace
+
+    from sunset.model.scene import load_named_scene
+    from sunset.tape.codes import CLOUDY_CODE_MAP
+
+    cloudy = load_named_scene("carlas-island-clouds")
+    scene = replace(cloudy, camera=replace(cloudy.camera, width=48, height=40)).still()
+    tape = render_cycle(scene, 1, reflections=1, seed=2, progress=False, workers=1)
+    grid = hours_grid(0.4, 0.0, 0.2)
+    data = player_data(tape, grid)
+    assert data["sky_start"] == CLOUDY_CODE_MAP.sky.start
+    assert [g["name"] for g in data["groups"]] == [r.name for r in CLOUDY_CODE_MAP.ranges]
+    assert "cloud depth band" in data["meanings"][CLOUDY_CODE_MAP.cloud.start]
+    assert np.any(CLOUDY_CODE_MAP.cloud.contains(tape.codes[0]))
+    for h, hours in enumerate(grid):
+        np.testing.assert_array_equal(compose(data, 0, h), expose(scene, tape.codes[0], float(hours)))
