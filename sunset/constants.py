@@ -257,3 +257,14 @@ CLOUDY_CODES_CLIFF = 32
 CLOUDY_CODES_BEACH = 16
 CLOUDY_CODES_CLOUD = 32
 CLOUDY_CODES_SKY = 48
+
+# ---------------------------------------------------------------------------
+# Posts in the water and the ripples of light on them (sunset/model/posts.py, sunset/light/ripples.py).
+
+#: What a ray meets on a post (sunset/model/posts.py), in Frame.surface and Frame.final_surface.
+POST = -3
+#: Largest radius and height (above or below the water) of a post, metres.
+POST_MAX_RADIUS = 20.0
+POST_MAX_TOP = 100.0
+#: Most posts in one scene.
+POST_MAX_COUNT = 16

@@ -9,6 +9,7 @@ A scene file has four parts, each checked on load::
                       with [islands.cliff], [islands.beach], [[islands.cosines]]
     [clouds]          optional: a cloud layer, its mean level and [[clouds.cells]]
                       with [[clouds.cells.billows]]   (sunset.model.clouds.Clouds)
+    [[posts]]         optional: posts standing in the water  (sunset.model.posts.Post)
 
 An unknown key, a missing field, a value of the wrong type, a NaN, a
 non-positive size, an island behind the eye or an eye below the sea raises a
@@ -28,6 +29,8 @@ from pathlib import Path
 
 from .camera import Camera
 from .clouds import Billow, CloudCell, Clouds
+from .posts import Post
+from ..constants import POST_MAX_COUNT
 from ..errors import SunsetError
 from .islands import Cosine, Island, Paraboloid
 from .sun import Sun
@@ -47,6 +50,7 @@ class Scene:
     islands: tuple[Island, ...] = field(default_factory=tuple)
     title: str = ""
     clouds: Clouds | None = None
+    posts: tuple[Post, ...] = field(default_factory=tuple)
 
     def __post_init__(self):
         object.__setattr__(self, "islands", tuple(self.islands))
@@ -56,6 +60,9 @@ class Scene:
             if ground >= h:
                 raise SunsetError(f"islands[{k}] puts the eye inside it: its surface at the eye (x = y = 0) is "
                                   f"{ground:.3g} m above the sea, the eye only {h:g} m")
+        object.__setattr__(self, "posts", tuple(self.posts))
+        if len(self.posts) > POST_MAX_COUNT:
+            raise SunsetError(f"posts: at most {POST_MAX_COUNT} posts, got {len(self.posts)}")
         if self.clouds is not None and self.clouds.base <= h:
             raise SunsetError(f"clouds: the eye ({h:g} m) must be below the cloud base "
                               f"({self.clouds.base:g} m: the level less the deepest cloud)")
@@ -137,7 +144,7 @@ def default_scene() -> Scene:
 # Generic validated loading of the frozen dataclasses above.
 
 _NESTED = {
-    Scene: {"camera": Camera, "sun": Sun, "sea": Sea, "islands": Island, "clouds": Clouds},
+    Scene: {"camera": Camera, "sun": Sun, "sea": Sea, "islands": Island, "clouds": Clouds, "posts": Post},
     Clouds: {"cells": CloudCell},
     CloudCell: {"billows": Billow},
     Sea: {"trains": WaveTrain},
@@ -155,7 +162,7 @@ def _field_types(cls) -> dict[str, typing.Any]:
 _OPTIONAL = {
     (Scene, "title"), (Scene, "sea"), (Scene, "islands"), (Sea, "trains"),
     (WaveTrain, "phase"), (WaveTrain, "stokes_order"), (Island, "name"), (Island, "cosines"),
-    (Scene, "clouds"), (CloudCell, "billows"),
+    (Scene, "clouds"), (CloudCell, "billows"), (Scene, "posts"), (Post, "albedo"),
 }
 
 

@@ -61,7 +61,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import (CLOUD, CLOUDY_CODES_BEACH, CLOUDY_CODES_CLIFF, CLOUDY_CODES_CLOUD, CLOUDY_CODES_HILL,
+from ..constants import (CLOUD, POST, CLOUDY_CODES_BEACH, CLOUDY_CODES_CLIFF, CLOUDY_CODES_CLOUD, CLOUDY_CODES_HILL,
                          CLOUDY_CODES_SKY, CODES_BEACH, CODES_CLIFF, CODES_HALO, CODES_HILL, CODES_SKY, CODES_TRACK, HALO_FACTOR,
                         N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY, TRACK_DITHER)
 from ..kernels import twin
@@ -369,6 +369,10 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
 
     codes = np.empty(shape, np.uint8)
     encode_pixels(codes, frame, u, v, sun, cmap)
+    post = np.asarray(frame.final_surface) == POST
+    if np.any(post):            # posts in the water: wood, coded as the brown cliff by ρ̂(N)
+        codes[post] = cmap.cliff.start + island_offsets(rho_hat(_rows(frame.final_normal, post), sun),
+                                                        cmap.cliff.size, u[post])
     if cmap.cloud is not None:  # clouds by depth below the mean level, seen directly or by reflection
         cloud = np.asarray(frame.final_surface) == CLOUD
         if np.any(cloud):

@@ -33,9 +33,11 @@ class Frame:
     direction : ndarray (H, W, 3) float32
         Unit direction D of the direct ray through the pixel centre.
     surface : ndarray (H, W) int8
-        What the direct ray meets: −1 sky, 0 sea, k >= 1 island k (1-based).
+        What the direct ray meets: −1 sky, 0 sea, k >= 1 island k (1-based);
+        −2 a cloud, −3 a post (scenes with clouds or posts).
     part : ndarray (H, W) int8
-        For islands, which part: 1 beach, 2 cliff, 3 hill; 0 otherwise.
+        For islands, which part: 1 beach, 2 cliff, 3 hill; for posts, the
+        post's index from 1; 0 otherwise.
     distance : ndarray (H, W) float32
         Distance along the direct ray to the hit, metres; +inf for sky.
     point : ndarray (H, W, 3) float32

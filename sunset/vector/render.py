@@ -3,8 +3,8 @@
 ``render`` runs the paper's pipeline for the rays: direct rays by the
 height-field scan line (:mod:`sunset.vector.heightfield`, :mod:`sunset.model.islands`),
 then reflected rays (:mod:`sunset.vector.reflect`), and, when the scene
-has a cloud layer, the clouds seen directly and by reflection
-(:mod:`sunset.vector.clouds`).
+has a cloud layer or posts in the water, those seen directly and by
+reflection (:mod:`sunset.vector.clouds`, :mod:`sunset.vector.posts`).
 
 Reflection modes
 ----------------
@@ -44,6 +44,7 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
     """
     from .clouds import add_clouds, reflected_clouds
     from .direct import trace_direct
+    from .posts import add_posts, reflected_posts
     from .reflect import trace_reflections
 
     require_finite("t", t)
@@ -51,7 +52,11 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
     frame = trace_direct(scene, t)
     if scene.clouds is not None:
         add_clouds(scene, frame)
+    if scene.posts:
+        add_posts(scene, frame)
     trace_reflections(scene, frame, reflections)
     if scene.clouds is not None:
         reflected_clouds(scene, frame)
+    if scene.posts:
+        reflected_posts(scene, frame)
     return frame
