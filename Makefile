@@ -9,7 +9,7 @@ PIP    := $(PY) -m pip
 # Extra options for `jupyter-book build`; CI sets BOOK_EXECUTE=force.
 BOOK_EXECUTE ?= cache
 
-.PHONY: figures test book book-check bench clean help
+.PHONY: figures test book book-check bench bench-player clean help
 
 help:
 	@echo "make figures   regenerate the paper's figures and the film into figures/"
@@ -17,6 +17,7 @@ help:
 	@echo "make book      build the Jupyter Book into book/_build/html (BOOK_EXECUTE=force re-runs every chapter)"
 	@echo "make book-check  open every page of the built book in headless Chromium and check it"
 	@echo "make bench     time the renderer (writes figures/bench.json)"
+	@echo "make bench-player  time the colour-table player's frames in headless Chromium (figures/player-bench.json)"
 	@echo "make clean     remove the venv, builds and generated figures"
 
 $(VENV)/bin/python:
@@ -45,5 +46,9 @@ book-check: $(VENV)/.stamp-book
 bench: $(VENV)/.stamp-test
 	$(PY) -m sunset.bench --out figures/bench.json
 
+bench-player: $(VENV)/.stamp-test
+	$(PY) -m sunset player carlas-island -o figures/player.html --quiet
+	$(PY) book/browser_check.py --player-bench figures/player.html --out figures/player-bench.json
+
 clean:
-	rm -rf $(VENV) book/_build figures/*.png figures/*.mp4 figures/*.gif figures/*.webp figures/*.json .pytest_cache
+	rm -rf $(VENV) book/_build figures/*.png figures/*.mp4 figures/*.gif figures/*.webp figures/*.json figures/*.html .pytest_cache

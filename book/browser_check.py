@@ -515,6 +515,36 @@ def _dump_cases(data: dict) -> list[tuple[int, float]]:
             for i, h in enumerate(dict.fromkeys(hours))]
 
 
+def bench_player(dt: DevTools, session: str, data: dict) -> dict:
+    """Time the open player's draws (compose + putImageData) at its resolution: a JSON-ready report.
+
+    One warm-up run, then :data:`PLAYER_BENCH_RUNS` runs of
+    :data:`PLAYER_BENCH_BLOCKS` blocks of ten draws at varying frames and hours,
+    timed by blocks because the page's clock ticks in 0.1 ms; the median and
+    the 95th percentile of the milliseconds per draw over every block.
+    """
+    import statistics
+
+    _evaluate(dt, session, "window.sunsetPlayer.pause(), window.sunsetPlayer.bench(5), true")
+    runs = [_evaluate(dt, session, f"window.sunsetPlayer.bench({PLAYER_BENCH_BLOCKS})")
+            for _ in range(PLAYER_BENCH_RUNS)]
+    every = [t for r in runs for t in r]
+    return {"width": data["width"], "height": data["height"], "draws_per_run": 10 * PLAYER_BENCH_BLOCKS,
+            "runs": PLAYER_BENCH_RUNS, "median_ms": statistics.median(every),
+            "run_medians_ms": [statistics.median(r) for r in runs],
+            "p95_ms": sorted(every)[int(0.95 * (len(every) - 1))],
+            "chromium": dt.call("Browser.getVersion").get("product", "?"), "chromium_flags": CHROMIUM_FLAGS,
+            "cpus": os.cpu_count(), "load_average": os.getloadavg()[0],
+            "date": time.strftime("%Y-%m-%d", time.gmtime())}
+
+
+def bench_line(bench: dict) -> str:
+    """One line saying what :func:`bench_player` measured."""
+    runs = ", ".join(f"{m:.3f}" for m in bench["run_medians_ms"])
+    return (f"draw {bench['width']}x{bench['height']}: median {bench['median_ms']:.3f} ms (run medians {runs} ms; "
+            f"p95 {bench['p95_ms']:.3f} ms; load average {bench['load_average']:.1f})")
+
+
 def check_player(dt: DevTools, session: str, base: str, root: Path, pages: list[Path],
                  bench_out: Path) -> tuple[list[str], list[str]]:
     """The colour-table player in the built book and as a file written by ``sunset player``.
@@ -527,8 +557,6 @@ def check_player(dt: DevTools, session: str, base: str, root: Path, pages: list[
     * The per-frame draw time at the player's resolution (a benchmark: the
       median is reported and written to ``bench_out``, never asserted).
     """
-    import statistics
-
     from sunset.recorder.player import read_player_data
 
     problems: list[str] = []
@@ -563,23 +591,10 @@ def check_player(dt: DevTools, session: str, base: str, root: Path, pages: list[
     lines.append(f"{rel}: after 1.5 s of play: frame {st['frame']}, grid hour {st['hour']}, canvas changed: "
                  f"{before != after}")
 
-    # The benchmark: draws at the player's resolution (compose + putImageData), ms each,
-    # timed in blocks of ten (the page's timer ticks in 0.1 ms).
-    _evaluate(dt, session, "window.sunsetPlayer.pause(), window.sunsetPlayer.bench(5), true")
-    runs = [_evaluate(dt, session, f"window.sunsetPlayer.bench({PLAYER_BENCH_BLOCKS})")
-            for _ in range(PLAYER_BENCH_RUNS)]
-    medians = [statistics.median(r) for r in runs]
-    every = [t for r in runs for t in r]
-    bench = {"width": data["width"], "height": data["height"], "draws_per_run": 10 * PLAYER_BENCH_BLOCKS,
-             "runs": PLAYER_BENCH_RUNS, "median_ms": statistics.median(every), "run_medians_ms": medians,
-             "p95_ms": sorted(every)[int(0.95 * (len(every) - 1))],
-             "chromium": dt.call("Browser.getVersion").get("product", "?"), "chromium_flags": CHROMIUM_FLAGS,
-             "cpus": os.cpu_count(), "load_average": os.getloadavg()[0],
-             "date": time.strftime("%Y-%m-%d", time.gmtime())}
+    # The benchmark: draws at the player's resolution (a measurement, never asserted).
+    bench = bench_player(dt, session, data)
     bench_out.write_text(json.dumps(bench, indent=1) + "\n", encoding="utf-8")
-    lines.append(f"{rel}: draw {data['width']}x{data['height']}: median {bench['median_ms']:.3f} ms "
-                 f"(run medians {', '.join(f'{m:.3f}' for m in medians)} ms; p95 {bench['p95_ms']:.3f} ms) "
-                 f"-> {bench_out}")
+    lines.append(f"{rel}: {bench_line(bench)} -> {bench_out}")
 
     # A file written by `sunset player`, opened from disk: no server, no network.
     with tempfile.TemporaryDirectory(prefix="sunset-player-") as tmp:
@@ -598,13 +613,49 @@ def check_player(dt: DevTools, session: str, base: str, root: Path, pages: list[
     return problems, lines
 
 
+def player_bench_main(html: Path, out: Path | None) -> int:
+    """``--player-bench``: open a player file from disk, time its draws, print (and write) the result."""
+    from sunset.recorder.player import read_player_data
+
+    exe = find_chromium()
+    if exe is None or not html.is_file():
+        print(f"browser_check: {'chromium not found' if exe is None else f'{html}: no such file'}",
+              file=sys.stderr)
+        return 2
+    data = read_player_data(html.read_text(encoding="utf-8"))
+    with tempfile.TemporaryDirectory(prefix="sunset-chromium-") as tmp:
+        dt = DevTools(exe, Path(tmp) / "profile", Path(tmp) / "chromium.log")
+        try:
+            target = dt.call("Target.createTarget", {"url": "about:blank"})["targetId"]
+            session = dt.call("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
+            for domain in ("Page", "Network", "Runtime"):
+                dt.call(f"{domain}.enable", {}, session)
+            _open_player(dt, session, html.resolve().as_uri())
+            bench = bench_player(dt, session, data)
+        except BrowserError as exc:
+            print(f"browser_check: {exc}", file=sys.stderr)
+            return 2
+        finally:
+            dt.close()
+    bench["file"] = str(html)
+    print(f"browser_check: player: {bench_line(bench)}", flush=True)
+    if out is not None:
+        out.write_text(json.dumps(bench, indent=1) + "\n", encoding="utf-8")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("html", type=Path, nargs="?", default=BOOK / "_build" / "html",
                         help="the built book (default: book/_build/html)")
     parser.add_argument("--screenshot-dir", type=Path, default=None,
                         help="where to save page screenshots (default: <html>/../screenshots)")
+    parser.add_argument("--player-bench", type=Path, metavar="PLAYER.html",
+                        help="only time the draws of a player file written by `sunset player` (make bench-player)")
+    parser.add_argument("--out", type=Path, help="with --player-bench: also write the measurement here (JSON)")
     args = parser.parse_args(argv)
+    if args.player_bench:
+        return player_bench_main(args.player_bench, args.out)
 
     root = args.html.resolve()
     if not (root / "index.html").is_file():

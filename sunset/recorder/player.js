@@ -287,25 +287,59 @@
   }
 
   // ----------------------------------------------------------------- the codes: lossless 8-bit PNG frames
-  async function decodeFrames() {
-    const canvas = document.createElement("canvas");
-    canvas.width = W;
-    canvas.height = H;
-    const cx = canvas.getContext("2d", {willReadFrequently: true});
-    const frames = [];
-    for (const b64 of data.codes) {
-      const blob = new Blob([bytes(b64)], {type: "image/png"});
-      const bmp = await createImageBitmap(blob, {premultiplyAlpha: "none", colorSpaceConversion: "none"});
-      if (bmp.width !== W || bmp.height !== H) throw new Error("a frame of codes has the wrong size");
-      cx.clearRect(0, 0, W, H);
-      cx.drawImage(bmp, 0, 0);
-      bmp.close();
-      const px = cx.getImageData(0, 0, W, H).data;
-      const c = new Uint8Array(P);
-      for (let i = 0; i < P; i++) c[i] = px[4 * i];
-      frames.push(c);
+  // Decoded here rather than through a canvas, so that no colour management and no canvas read-back
+  // (which some browsers add noise to, against fingerprinting) can touch a code: the PNG's zlib stream
+  // is inflated by the browser's DecompressionStream and its row filters are undone below.
+  async function inflate(chunks) {
+    const stream = new Blob(chunks).stream().pipeThrough(new DecompressionStream("deflate"));
+    return new Uint8Array(await new Response(stream).arrayBuffer());
+  }
+
+  async function decodePng(png) {
+    const view = new DataView(png.buffer, png.byteOffset, png.byteLength);
+    const idat = [];
+    let pos = 8;                                   // after the signature
+    while (pos + 8 <= png.length) {
+      const len = view.getUint32(pos);
+      const type = String.fromCharCode(png[pos + 4], png[pos + 5], png[pos + 6], png[pos + 7]);
+      if (type === "IHDR") {
+        const [w, h] = [view.getUint32(pos + 8), view.getUint32(pos + 12)];
+        const depth = png[pos + 16], colour = png[pos + 17], interlace = png[pos + 20];
+        if (w !== W || h !== H || depth !== 8 || colour !== 0 || interlace !== 0) {
+          throw new Error("a frame of codes is not an 8-bit greyscale PNG of " + W + " x " + H);
+        }
+      } else if (type === "IDAT") {
+        idat.push(png.subarray(pos + 8, pos + 8 + len));
+      } else if (type === "IEND") {
+        break;
+      }
+      pos += 12 + len;
     }
-    return frames;
+    const raw = await inflate(idat);
+    if (raw.length !== H * (W + 1)) throw new Error("a frame of codes has the wrong length");
+    const out = new Uint8Array(P);
+    for (let y = 0; y < H; y++) {
+      const filter = raw[y * (W + 1)], first = y * (W + 1) + 1, row = y * W, up = row - W;
+      for (let x = 0; x < W; x++) {
+        const a = x > 0 ? out[row + x - 1] : 0;
+        const b = y > 0 ? out[up + x] : 0;
+        const c = x > 0 && y > 0 ? out[up + x - 1] : 0;
+        let v = raw[first + x];
+        if (filter === 1) v += a;
+        else if (filter === 2) v += b;
+        else if (filter === 3) v += (a + b) >> 1;
+        else if (filter === 4) {
+          const p = a + b - c, pa = Math.abs(p - a), pb = Math.abs(p - b), pc = Math.abs(p - c);
+          v += pa <= pb && pa <= pc ? a : (pb <= pc ? b : c);
+        } else if (filter !== 0) throw new Error("unknown PNG filter " + filter);
+        out[row + x] = v & 255;
+      }
+    }
+    return out;
+  }
+
+  function decodeFrames() {
+    return Promise.all(data.codes.map((b64) => decodePng(bytes(b64))));
   }
 
   const query = new URLSearchParams(window.location.search);
