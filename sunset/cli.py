@@ -22,12 +22,15 @@ EXAMPLES = {
   sunset figures --only 2,6 --size 512x512 --out /tmp/figs""",
     "render": """examples:
   sunset scene > my.toml && sunset render my.toml -o frame.png
-  sunset render my.toml --reflections 1 --hours 2 --size 400x400 -o f.png --tape f.tape""",
+  sunset render my.toml --reflections 1 --hours 2 --size 400x400 -o f.png --tape f.tape
+  sunset render carlas-island --shading rgb --samples 4 -o rgb.png       # Fresnel, the water's colour, 2x2 AA
+  sunset render carlas-island --shading rgb --depth 16 -o rgb16.png       # or -o frame.npy: float32 for grading""",
     "expose": """examples:
   sunset expose f.tape --hours 4.5 -o afternoon.png""",
     "film": """examples:
   sunset film my.toml --frames 16 --size 320x320 -o film.mp4
-  sunset film my.toml --from-hours 1.5 --to-hours -0.25 -o film.mp4 --preview film.gif""",
+  sunset film my.toml --from-hours 1.5 --to-hours -0.25 -o film.mp4 --preview film.gif
+  sunset film my.toml --shading rgb --samples 4 --frames 16 --size 320x320 -o rgb.mp4""",
     "player": """examples:
   sunset player carlas-island -o carla.html         # open carla.html in a browser, no network needed
   sunset player my.toml -o my.html --frames 16 --size 320x320 --from-hours 3 --to-hours -0.25""",
@@ -84,6 +87,37 @@ def _fps(text: str) -> int:
 
 
 
+def _samples(text: str) -> int:
+    from .light.render import MAX_SAMPLES
+
+    v = _count(text, MAX_SAMPLES)
+    if math.isqrt(v) ** 2 != v:
+        raise argparse.ArgumentTypeError(f"samples must be a square number (1, 4, 9, 16, ...: a k x k grid), "
+                                         f"got {text!r}")
+    return v
+
+
+def _shading_options(p) -> None:
+    p.add_argument("--shading", choices=("codes", "rgb"), default="codes",
+                   help="codes: the paper's 8-bit tape and colour tables (default); rgb: the RGB back end "
+                        "(Fresnel, the water's colour, anti-aliasing)")
+    p.add_argument("--samples", type=_samples, default=None,
+                   help="rgb only: samples per pixel on a k x k grid (1, 4, 9, 16, ...; default 1)")
+
+
+def _check_shading(args) -> int:
+    """The samples per pixel for ``--shading rgb``; a one-line error for options that do not fit the shading."""
+    if args.shading != "rgb":
+        if args.samples is not None:
+            raise SunsetError("--samples needs --shading rgb (the 8-bit codes take one sample per pixel)")
+        if getattr(args, "depth", None) is not None:
+            raise SunsetError("--depth needs --shading rgb")
+        return 1
+    if getattr(args, "tape", None):
+        raise SunsetError("--tape needs --shading codes (the RGB back end writes no tape)")
+    return 1 if args.samples is None else args.samples
+
+
 def _seed(text: str) -> int:
     try:
         v = int(text)
@@ -129,8 +163,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--hours", type=_number, default=0.35, help="hours before sunset for the colour tables")
     p.add_argument("--seed", type=_seed, default=0, help="dither seed (default 0)")
     p.add_argument("--still", action="store_true", help="render on still water (Figure 4)")
-    p.add_argument("-o", "--output", required=True, help="output PNG")
+    p.add_argument("-o", "--output", required=True, help="output PNG (with --shading rgb also .npy: float32)")
     p.add_argument("--tape", help="also write the 8-bit tape here")
+    _shading_options(p)
+    p.add_argument("--depth", type=int, choices=(8, 16), default=None,
+                   help="rgb only: bits per channel of the PNG (default 8)")
 
     p = add("expose", "Expose a saved tape through the colour tables (the film recorder alone).")
     p.add_argument("tape", help="a tape written by `sunset render --tape` or `sunset film --tape`")
@@ -151,6 +188,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--preview", help="also write a small looping preview here (.gif or .webp)")
     p.add_argument("--tape", help="also write the cycle's tape here")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    _shading_options(p)
 
     p = add("player", "Write the colour-table player: one wave cycle and an afternoon of colour tables in one "
                       "self-contained HTML file.")
@@ -180,6 +218,9 @@ def _cmd_figures(args) -> None:
 def _cmd_render(args) -> None:
     from .io import PNG_SUFFIXES, check_writable
 
+    samples = _check_shading(args)
+    if args.shading == "rgb":
+        return _cmd_render_rgb(args, samples)
     check_writable(args.output, PNG_SUFFIXES)          # before the long work
     if args.tape:
         check_writable(args.tape)
@@ -197,6 +238,25 @@ def _cmd_render(args) -> None:
     expose_png(tape, args.hours, Path(args.output))
 
 
+def _cmd_render_rgb(args, samples: int) -> None:
+    from .light.output import check_rgb_output
+
+    depth = args.depth or 8
+    check_rgb_output(args.output, depth)               # before the long work
+    scene = _load_scene(args.scene)
+    if args.size:
+        scene = scene.with_size(*args.size)
+    if args.still:
+        scene = scene.still()
+    from .figures.paper import png_metadata
+    from .light.film import write_rgb_frame
+
+    settings = {"t": args.time, "hours": args.hours, "reflections": args.reflections, "shading": "rgb",
+                "samples": samples, "depth": depth}
+    write_rgb_frame(scene, args.output, t=args.time, hours=args.hours, samples=samples,
+                    reflections=args.reflections, depth=depth, metadata=png_metadata(scene, settings))
+
+
 def _cmd_expose(args) -> None:
     from .figures.paper import expose_png
     from .io import PNG_SUFFIXES, check_writable
@@ -210,9 +270,13 @@ def _cmd_expose(args) -> None:
 def _cmd_film(args) -> None:
     from .recorder.film import make_film
 
+    samples = _check_shading(args)
     scene = _load_scene(args.scene)
     if args.size:
         scene = scene.with_size(*args.size)
+    if args.shading == "rgb":
+        _rgb_film(scene, args, samples)
+        return
     make_film(scene, args.output, args.preview, frames=args.frames, from_hours=args.from_hours,
               to_hours=args.to_hours, reflections=args.reflections, seed=args.seed, fps=args.fps,
               tape_path=args.tape, progress=not args.quiet)
@@ -226,6 +290,20 @@ def _cmd_player(args) -> None:
     scene = _load_scene(args.scene)
     write_player(scene, args.output, frames=args.frames, size=args.size, from_hours=args.from_hours,
                  to_hours=args.to_hours, reflections=args.reflections, seed=args.seed, progress=not args.quiet)
+
+
+def _rgb_film(scene, args, samples: int) -> None:
+    """``film --shading rgb``: one cycle's geometry traced once, re-shaded per hour (:mod:`sunset.light.film`)."""
+    from .light.film import film_frames, trace_cycle
+    from .recorder.film import FILM_CYCLES, _check_film, cycle_times, film_hours, write_video
+
+    _check_film(args.output, args.preview, args.from_hours, args.to_hours, FILM_CYCLES, args.fps)
+    geometries = trace_cycle(scene, cycle_times(scene, args.frames), args.reflections, samples,
+                             progress=not args.quiet)
+    hours = film_hours(args.from_hours, args.to_hours, FILM_CYCLES * args.frames)
+    cam = scene.camera
+    write_video(film_frames(scene, geometries, hours, samples), len(hours), (cam.width, cam.height), args.output,
+                args.preview, fps=args.fps, progress=not args.quiet)
 
 
 def _cmd_scene(args) -> None:
@@ -243,7 +321,7 @@ COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expos
 # say only "expected one argument"; joined as "--size=-5x10" the value reaches
 # its parser, which says what is wrong with it.
 _VALUE_OPTIONS = frozenset({"--size", "--time", "--hours", "--from-hours", "--to-hours", "--frames",
-                            "--seed", "--fps", "--frame", "--reflections"})
+                            "--seed", "--fps", "--frame", "--reflections", "--samples", "--depth"})
 
 
 def _join_values(argv: list[str]) -> list[str]:

@@ -21,6 +21,8 @@ FIGURES: dict[str, tuple[str, str]] = {
     "diagnostic": ("diagnostic.png", "surface classes and normals of the default scene"),
     "reflections": ("reflections.png", "the three reflection modes, diagnostic maps"),
     "film": ("film.mp4", "the colour-table animation of one wave cycle (and film-preview.webp)"),
+    "rgb": ("fig6-rgb.png", "Figure 6 as the future work imagined: paint by numbers beside the RGB back end"),
+    "quantisation": ("quantisation.png", "the 8-bit test: the RGB frame in 256 colours, CIEDE2000 maps"),
 }
 
 
@@ -53,6 +55,12 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
     if name == "reflections":
         from .reflections import reflection_modes
         return [reflection_modes(out / "reflections.png", scene=scene)]
+    if name == "rgb":
+        from .rgb import rgb_figure6
+        return [rgb_figure6(out / "fig6-rgb.png", scene, seed=seed)]
+    if name == "quantisation":
+        from .rgb import quantisation_figure
+        return [quantisation_figure(out / "quantisation.png", scene, seed=seed)]
     if name == "film":
         from ..recorder.film import make_film
         return list(make_film(scene, out / "film.mp4", out / "film-preview.webp", frames=film_frames,

@@ -23,7 +23,7 @@ from .sky import island_lighting, sky_radiance, spectral_data
 
 __all__ = [
     "spectrum_to_xyz", "xyz_to_linear_srgb", "srgb_encode", "srgb_decode", "to_uint8", "DECODE_LUT",
-    "reference_white", "film_white", "exposure_key", "eye_response", "film_response",
+    "reference_white", "film_white", "exposure_key", "eye_response", "film_response", "xyz_response",
 ]
 
 
@@ -108,15 +108,25 @@ def eye_response(x) -> np.ndarray:
 def film_response(radiance: np.ndarray, key: float) -> np.ndarray:
     """Spectral radiance (..., n_λ) → the linear display value in each pass (..., 3).
 
-    XYZ relative to the white card and the exposure key, the eye's response
-    (:func:`eye_response`) applied to the luminance Y, and linear sRGB scaled
-    by y/Y, so the compression keeps each colour's chromaticity. A colour
-    that would pass 1 in some pass is mixed towards the grey of the same
-    luminance until it fits: very bright light (the sun, its glitter) bleaches
-    towards white, as it does on film and in the eye.
+    XYZ relative to the white card and the exposure key, then
+    :func:`xyz_response`.
     """
-    xyz = spectrum_to_xyz(radiance) / (float(reference_white()[1]) * key)
-    lin = np.clip(xyz_to_linear_srgb(xyz), 0.0, None)
+    return xyz_response(spectrum_to_xyz(radiance) / (float(reference_white()[1]) * key))
+
+
+def xyz_response(xyz: np.ndarray, to_linear_srgb=xyz_to_linear_srgb) -> np.ndarray:
+    """Exposed XYZ (..., 3), relative to the white card, → the linear display value (..., 3) in [0, 1].
+
+    The eye's response (:func:`eye_response`) applied to the luminance Y, and
+    linear sRGB scaled by y/Y, so the compression keeps each colour's
+    chromaticity. A colour that would pass 1 in some pass is mixed towards the
+    grey of the same luminance until it fits: very bright light (the sun, its
+    glitter) bleaches towards white, as it does on film and in the eye. The
+    RGB back end (:mod:`sunset.light`) calls it per pixel with a matrix for
+    ``to_linear_srgb``.
+    """
+    xyz = np.asarray(xyz, dtype=float)
+    lin = np.clip(to_linear_srgb(xyz), 0.0, None)
     y = np.clip(xyz[..., 1], 0.0, None)
     resp = eye_response(y)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -165,7 +165,7 @@ def _phase_hg(cos_g, g=AEROSOL_ASYMMETRY):
     return (1.0 - g * g) / (4.0 * math.pi * (1.0 + g * g - 2.0 * g * cos_g) ** 1.5)
 
 
-def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN) -> np.ndarray:
+def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN, columns=None) -> np.ndarray:
     """Single-scattered sky radiance seen from sea level, per unit solar irradiance.
 
     L(λ, v) = E₀(λ) ∫ [β_R(λ,h) P_R(γ) + ω β_A(λ,h) P_HG(γ)] T_view T_sun ds,
@@ -181,6 +181,11 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
         Unit view directions (z up).
     sun_dir : array_like (3,)
         Unit vector P towards the sun.
+    columns : callable, optional
+        ``columns(altitude, mu)`` → (..., 3), the columns towards the sun from
+        each sample point; default :func:`slant_columns` with ``n_sun``
+        samples (a tabulated version of it makes many directions cheap,
+        :func:`sunset.light.lighting.tabulated_columns`).
 
     Returns
     -------
@@ -205,7 +210,7 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
     cos_g = np.clip(v @ p, -1.0, 1.0)                   # (K,)
     # the sun's direction cosine at each sample point (the local vertical is the point's radius)
     mu_s = (R * p[2] + s * cos_g[:, None]) / r
-    col = view + slant_columns(h, mu_s, n_sun)           # (K, n, 3)
+    col = view + (slant_columns(h, mu_s, n_sun) if columns is None else columns(h, mu_s))  # (K, n, 3)
     trans = np.exp(-(col @ sp.tau))                      # (K, n, λ)
     scat = (dens[..., 0] * _phase_rayleigh(cos_g)[:, None])[..., None] * sp.tau[0] \
         + (dens[..., 1] * AEROSOL_ALBEDO * _phase_hg(cos_g)[:, None])[..., None] * sp.tau[1]

@@ -29,7 +29,7 @@ from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_FPS, MAX_T
 from ..errors import SunsetError, require_finite, require_int_range
 from ..tape.tapefile import Tape, write_tape
 
-__all__ = ["cycle_times", "render_cycle", "film_hours", "film_frames", "write_film", "make_film",
+__all__ = ["cycle_times", "render_cycle", "film_hours", "film_frames", "write_film", "write_video", "make_film",
            "FILM_CYCLES", "PREVIEW_WIDTH", "PREVIEW_FRAMES"]
 
 #: Default number of times the cycle is replayed in the film.
@@ -194,30 +194,43 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
     list of Path
         The files written. Both are written atomically.
     """
+    path_mp4, path_preview = _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps, preview_width)
+    cam = tape.scene.camera
+    frames = (rgb for _, rgb in film_frames(tape, from_hours, to_hours, cycles))
+    return write_video(frames, cycles * len(tape), (cam.width, cam.height), path_mp4, path_preview, fps=fps,
+                       progress=progress, preview_width=preview_width)
+
+
+def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.PathLike,
+                path_preview: str | os.PathLike | None = None, fps: int = FILM_FPS, progress: bool = True,
+                preview_width: int = PREVIEW_WIDTH) -> list[Path]:
+    """Encode ``total`` sRGB frames (H, W, 3) uint8 of ``size`` = (W, H) as an MP4 and an optional looping preview.
+
+    The encoder behind :func:`write_film`, and behind the RGB back end's film
+    (``sunset film --shading rgb``); see :func:`write_film` for the formats.
+    Both files are written atomically.
+    """
     import imageio_ffmpeg
 
     from ..io import atomic_write
 
-    path_mp4, path_preview = _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps, preview_width)
-    total = cycles * len(tape)
     step = max(1, -(-total // PREVIEW_FRAMES))
     preview = []
-    cam = tape.scene.camera
-    size = (cam.width + cam.width % 2, cam.height + cam.height % 2)
+    size = (size[0] + size[0] % 2, size[1] + size[1] % 2)
     with atomic_write(path_mp4) as tmp, _bar(total, "filming", progress) as bar:
         writer = imageio_ffmpeg.write_frames(str(tmp), size, fps=fps, codec="libx264", pix_fmt_in="rgb24",
                                              pix_fmt_out="yuv420p", quality=None, macro_block_size=1,
                                              ffmpeg_log_level="error", output_params=_X264_PARAMS)
         writer.send(None)
         try:
-            for j, (_, rgb) in enumerate(film_frames(tape, from_hours, to_hours, cycles)):
+            for j, rgb in enumerate(frames):
                 writer.send(np.ascontiguousarray(_even(rgb)))
                 if path_preview is not None and j % step == 0:
                     preview.append(_preview_image(rgb, preview_width))
                 bar.update(1)
         finally:
             writer.close()
-    written = [path_mp4]
+    written = [Path(path_mp4)]
     if path_preview is not None:
         import io
 
@@ -231,7 +244,7 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
             preview[0].save(buf, format="GIF", save_all=True, append_images=preview[1:], loop=0,
                             duration=round(1000 * step / fps), optimize=False)
         write_bytes(path_preview, buf.getvalue())
-        written.append(path_preview)
+        written.append(Path(path_preview))
     return written
 
 

@@ -60,6 +60,17 @@ class Frame:
         the cloud the ray finally meets, metres (negative above the level); NaN
         where it meets none. ``surface`` and ``final_surface`` are
         :data:`~sunset.constants.CLOUD` (−2) there.
+    incidence : ndarray (H, W, 2) float32
+        Cosine of the angle of incidence at the first and the second sea
+        hit (−D·N, then −R₁·N₂); NaN where the ray made no such reflection.
+        Slightly negative where a sampled hit sees a wave's back at grazing
+        incidence. What Fresnel's law needs (:mod:`sunset.light`); the 8-bit
+        codes do not use it.
+    sea_rays : ndarray (H, W, 2, 3) float32
+        The ray leaving the first and the second sea hit, R₁ and R₂, before
+        the |R_z| of the reflection modes; NaN where there is no such bounce.
+        With ``direction`` they give each bounce's normal,
+        N_k ∝ R_k − I_k, I₁ = D, I₂ = R₁ (:mod:`sunset.light`).
     """
 
     t: float
@@ -76,6 +87,8 @@ class Frame:
     final_part: np.ndarray | None = None
     final_normal: np.ndarray | None = None
     cloud_depth: np.ndarray | None = None
+    incidence: np.ndarray | None = None
+    sea_rays: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -93,6 +106,8 @@ class Frame:
         self.final_surface = self.surface.copy()
         self.final_part = self.part.copy()
         self.final_normal = self.normal.copy()
+        self.incidence = np.full(self.shape + (2,), np.nan, np.float32)
+        self.sea_rays = np.full(self.shape + (2, 3), np.nan, np.float32)
         return self
 
     @property

@@ -20,7 +20,7 @@ from .crests import secondary_reflections
 from .frame import Frame
 from .pierce import gather, island_normal, pierce_islands, reflect, scatter
 
-__all__ = ["trace_reflections", "trace_sea_rays"]
+__all__ = ["trace_reflections", "trace_sea_rays", "record_bounces"]
 
 
 def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
@@ -46,6 +46,9 @@ def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
     require_int_range("reflections", reflections, 0, 2)
     if frame.bounces is None:
         frame.finish_direct()
+    if frame.incidence is None:
+        frame.incidence = np.full(frame.shape + (2,), np.nan, np.float32)
+        frame.sea_rays = np.full(frame.shape + (2, 3), np.nan, np.float32)
     frame.reflections = reflections
     sea_mask = frame.surface == SEA
     if not sea_mask.any():
@@ -68,12 +71,15 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     d = frame.direction[sea_mask].astype(np.float64)
     n = frame.normal[sea_mask].astype(np.float64)
     r = reflect(d, n)
+    r1 = r.copy()
     bounces = np.ones(len(q), np.uint8)
+    idx = ray2 = None
     if reflections == 2:
         idx, point, ray2 = secondary_reflections(scene.sea, frame.t, q, r)
         scatter(idx, point, q)
         scatter(idx, ray2, r)
         scatter(idx, 2, bounces)
+    record_bounces(frame, np.flatnonzero(sea_mask), -np.sum(d * n, axis=-1), r1, idx, ray2)
     r[:, 2] = np.abs(r[:, 2])
     final = np.full(len(q), SKY, np.int8)
     part = np.zeros(len(q), np.int8)
@@ -91,3 +97,22 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     frame.final_part[sea_mask] = part
     frame.final_normal[sea_mask] = normal
     return frame
+
+
+def record_bounces(frame: Frame, flat, cos1, r1, idx=None, ray2=None) -> None:
+    """Write what each sea bounce did into ``frame.incidence`` and ``frame.sea_rays`` (for :mod:`sunset.light`).
+
+    ``flat`` are the sea pixels' row-major indices, ``cos1`` = −D·N and ``r1``
+    the first reflected rays there; ``idx`` (into ``flat``) and ``ray2`` the
+    rays that reflect a second time. Since R₂ = R₁ − 2(R₁·N₂)N₂ with
+    R₁·N₂ = −cos i₂, the second incidence cosine is |R₂ − R₁|/2. The 8-bit
+    codes read none of this.
+    """
+    inc = frame.incidence.reshape(-1, 2)
+    rays = frame.sea_rays.reshape(-1, 2, 3)
+    inc[flat, 0] = cos1
+    rays[flat, 0] = r1
+    if idx is not None and len(idx):
+        at = flat[idx]
+        inc[at, 1] = 0.5 * np.linalg.norm(ray2 - r1[idx], axis=-1)
+        rays[at, 1] = ray2

@@ -25,6 +25,7 @@ from ..kernels import jit as _jit
 from .crests import crest_curvature, crest_lift, largest_train
 from .frame import Frame
 from .pierce import gather, island_normal, reflect, scatter
+from .reflect import record_bounces
 
 
 @_jit
@@ -353,7 +354,9 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     """
     h = scene.camera.eye_height
     flat, q, r = reflect_sea(frame, SEA)
+    r1 = r.copy()
     bounces = np.ones(len(q), np.uint8)
+    idx = ray2 = None
     if reflections == 2:
         train = largest_train(scene.sea)
         if train is not None:
@@ -361,9 +364,13 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
             idx, (q2, r2, t2) = gather(np.isfinite(hit), q, r, hit)
             point = q2 + t2[:, None] * r2
             normal = scene.sea.normal(point[:, 0], point[:, 1], frame.t)
+            ray2 = reflect(r2, normal)
             scatter(idx, point, q)
-            scatter(idx, reflect(r2, normal), r)
+            scatter(idx, ray2, r)
             scatter(idx, 2, bounces)
+    d = frame.direction.reshape(-1, 3)[flat].astype(np.float64)
+    n = frame.normal.reshape(-1, 3)[flat].astype(np.float64)
+    record_bounces(frame, flat, -np.sum(d * n, axis=-1), r1, idx, ray2)
     np.abs(r[:, 2], out=r[:, 2])
     final = np.full(len(q), SKY, np.int8)
     part = np.zeros(len(q), np.int8)

@@ -1,0 +1,115 @@
+"""The paper's claim, tested: "an 8-bit colour table is inadequate" for an RGB frame.
+
+Two 256-colour versions of one RGB frame are compared with it:
+
+* **the best free palette**: 256 colours chosen for this frame alone, by
+  median cut (Heckbert 1982, Pillow's implementation) refined by k-means
+  (Lloyd iterations, ``scipy.cluster.vq.kmeans2`` seeded with the median-cut
+  palette, so deterministic) on the sRGB-encoded pixels; each pixel takes its
+  nearest palette colour. No 8-bit table can do better for this frame by
+  much: this is the table's best case.
+* **a palette organised as the paper's code groups**: the frame's own 8-bit
+  codes (:func:`sunset.encode` of the same frame: hill, cliff, beach, sky,
+  track and halo groups), each code given the mean colour (in linear light)
+  of the RGB pixels that carry it, which is the best table the paper's tape
+  could be exposed through at this hour.
+
+The colour error is CIEDE2000 (ΔE₀₀, colour-science's ``delta_E``, sRGB →
+XYZ → CIE L*a*b* under D65): ΔE₀₀ ≈ 1 is about a just-noticeable difference,
+above 2–3 a difference anyone sees side by side.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .tone import decode_srgb
+
+__all__ = ["median_cut_kmeans", "code_group_palette", "delta_e_2000", "QuantisationResult", "quantisation_test"]
+
+
+def median_cut_kmeans(rgb8: np.ndarray, colours: int = 256, iterations: int = 10, fit_pixels: int = 65536):
+    """The frame quantised to its own best ``colours``-colour palette: (palette (c, 3) uint8, image (H, W, 3) uint8).
+
+    Median cut (Pillow, no dithering) seeds k-means on at most ``fit_pixels``
+    evenly strided pixels; every pixel then takes its nearest colour.
+    """
+    from PIL import Image
+    from scipy.cluster.vq import kmeans2, vq
+
+    img = Image.fromarray(np.ascontiguousarray(rgb8, np.uint8))
+    q = img.quantize(colors=colours, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+    seed = np.asarray(q.getpalette()[: 3 * colours], dtype=float).reshape(-1, 3)
+    pixels = np.asarray(rgb8, dtype=float).reshape(-1, 3)
+    fit = pixels[:: max(1, len(pixels) // fit_pixels)]
+    centres, _ = kmeans2(fit, seed, iter=iterations, minit="matrix", missing="warn") if len(seed) == colours \
+        else (seed, None)
+    centres = np.clip(np.rint(centres), 0, 255)
+    labels, _ = vq(pixels, centres)
+    palette = centres.astype(np.uint8)
+    return palette, palette[labels].reshape(np.shape(rgb8))
+
+
+def code_group_palette(display_linear: np.ndarray, codes: np.ndarray):
+    """The best table for the paper's codes: each code's mean linear colour; (palette (≥256, 3), image (H, W, 3)) linear."""
+    lin = np.asarray(display_linear, dtype=float).reshape(-1, 3)
+    c = np.asarray(codes).reshape(-1).astype(np.intp)
+    size = max(256, int(c.max()) + 1)
+    counts = np.bincount(c, minlength=size).astype(float)
+    palette = np.stack([np.bincount(c, weights=lin[:, j], minlength=size) for j in range(3)], axis=1)
+    palette = palette / np.maximum(counts, 1.0)[:, None]
+    return palette, palette[c].reshape(np.shape(display_linear))
+
+
+def delta_e_2000(rgb8_a: np.ndarray, rgb8_b: np.ndarray) -> np.ndarray:
+    """CIEDE2000 between two sRGB images (uint8 or encoded floats in [0, 1]), per pixel."""
+    import colour
+
+    def lab(x):
+        x = np.asarray(x)
+        enc = x / 255.0 if x.dtype == np.uint8 else x
+        xyz = colour.sRGB_to_XYZ(enc)          # decodes the sRGB curve, D65
+        return colour.XYZ_to_Lab(xyz, colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"])
+
+    return np.asarray(colour.delta_E(lab(rgb8_a), lab(rgb8_b), method="CIE 2000"), dtype=float)
+
+
+@dataclass
+class QuantisationResult:
+    """ΔE₀₀ maps (H, W) of the two palettes, and the images."""
+
+    best: np.ndarray
+    codes: np.ndarray
+    best_image: np.ndarray
+    codes_image: np.ndarray
+    reference: np.ndarray
+
+    @staticmethod
+    def summary(de: np.ndarray) -> dict:
+        """Median, 90th and 99th percentiles, maximum, and the shares above 1 and 3."""
+        return {"median": float(np.median(de)), "p90": float(np.percentile(de, 90)),
+                "p99": float(np.percentile(de, 99)), "max": float(de.max()),
+                "over1": float(np.mean(de > 1.0)), "over3": float(np.mean(de > 3.0))}
+
+
+def quantisation_test(display_linear: np.ndarray, codes: np.ndarray, sun_disk=None) -> QuantisationResult:
+    """Quantise an RGB frame (linear display values) both ways; ΔE₀₀ of each against it.
+
+    ``sun_disk`` (H, W) bool, optional: the pixels the film recorder paints in
+    the sun's colour by their raster position (the paper's sun-disk rule,
+    :func:`sunset.recorder.dicomed.sun_coverage`), given their own entry beside the
+    256 codes, as the recorder gave them the sun's colour whatever their code.
+    """
+    from .output import to_uint8
+
+    ref = to_uint8(display_linear)
+    _, best = median_cut_kmeans(ref)
+    codes = np.asarray(codes).astype(np.intp)
+    if sun_disk is not None:
+        codes = np.where(sun_disk, 256, codes)
+    _, lin = code_group_palette(display_linear, codes)
+    by_code = to_uint8(lin)
+    return QuantisationResult(best=delta_e_2000(ref, best), codes=delta_e_2000(ref, by_code), best_image=best,
+                              codes_image=by_code, reference=ref)

@@ -1,0 +1,66 @@
+"""From radiance to the display: the film's exposure and the eye's response, in colour.
+
+The RGB back end produces CIE XYZ radiance per pixel (in units of the
+top-of-atmosphere solar spectrum, as the sky model's radiance). It is turned
+into display values by the package's eye (:mod:`sunset.model.eye`), exactly
+as the colour tables turn their spectra into table entries: XYZ relative to a
+white card in full sun and to the hour's exposure key, the Naka–Rushton
+response applied to the luminance Y with each colour's chromaticity kept,
+bleaching towards white only what would pass full scale, then linear sRGB
+(adapted, CAT02, from the film's white to D65). Only the input differs: XYZ
+per pixel instead of a spectrum per code, and the XYZ → sRGB transform is
+applied as its 3 × 3 matrix.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from ..model.eye import exposure_key, film_white, reference_white, srgb_decode, srgb_encode, xyz_response
+
+__all__ = ["xyz_to_rgb_matrix", "exposure", "scene_linear", "display_linear", "encode_srgb", "decode_srgb"]
+
+#: sRGB transfer curve both ways (IEC 61966-2-1), as the film recorder uses them.
+encode_srgb = srgb_encode
+decode_srgb = srgb_decode
+
+
+@functools.lru_cache(maxsize=None)
+def xyz_to_rgb_matrix() -> np.ndarray:
+    """M (3, 3) with linear sRGB = XYZ @ M: colour-science's XYZ → sRGB, CAT02 from the film's white to D65.
+
+    The transform is linear, so its matrix is its image of the unit vectors.
+    """
+    import colour
+
+    m = colour.XYZ_to_sRGB(np.eye(3), illuminant=film_white(), chromatic_adaptation_transform="CAT02",
+                           apply_cctf_encoding=False)
+    m = np.asarray(m, dtype=float)
+    m.setflags(write=False)
+    return m
+
+
+def exposure(sun_dir) -> float:
+    """The divisor of XYZ for the hour: the white card's Y times the exposure key (:func:`sunset.model.eye.exposure_key`)."""
+    return float(reference_white()[1]) * exposure_key(sun_dir)
+
+
+def scene_linear(xyz, scale: float) -> np.ndarray:
+    """Exposed scene-referred linear sRGB (no response curve, unclipped): for grading, float output."""
+    return (np.asarray(xyz, dtype=float) / scale) @ xyz_to_rgb_matrix()
+
+
+def display_linear(xyz, scale: float) -> np.ndarray:
+    """XYZ radiance (..., 3) → linear display RGB in [0, 1] (..., 3): the film's response (:func:`sunset.model.eye.xyz_response`).
+
+    Parameters
+    ----------
+    xyz : array_like (..., 3)
+        Radiance in the sky model's units.
+    scale : float
+        :func:`exposure` of the hour.
+    """
+    m = xyz_to_rgb_matrix()
+    return xyz_response(np.asarray(xyz, dtype=float) / scale, lambda x: x @ m)
