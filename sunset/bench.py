@@ -229,8 +229,22 @@ def _function_name(file: str, name: str) -> str:
     return m.group(1) if m else name
 
 
+def _measure_rgb(width: int, height: int, repeats: int) -> dict:
+    """The RGB back end (:mod:`sunset.light`): re-shading a stored frame, one hour's light, a 4-sample frame."""
+    from .light.lighting import Lighting
+    from .light.render import shade_display, trace_geometry
+    from .model.scene import Scene
+
+    scene = Scene.default().with_size(width, height)
+    geometry = trace_geometry(scene, 0.0, 2)
+    light = Lighting.for_hour(scene.sun, 0.35)
+    return {"shade stored frame": _timed(lambda: shade_display(geometry, light), repeats),
+            "light of one hour": _timed(lambda: Lighting.for_hour(scene.sun, 0.5), repeats),
+            "4-sample frame": _timed(lambda: shade_display(trace_geometry(scene, 0.0, 2, 4), light, 2), repeats)}
+
+
 MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
-                "scaling": _measure_scaling, "profile": _measure_profile}
+                "scaling": _measure_scaling, "profile": _measure_profile, "rgb": _measure_rgb}
 
 
 def _child(args) -> None:
@@ -290,7 +304,8 @@ def _row(what: str, stage: str, times, pixels: int, res: dict) -> dict:
 
 def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle: bool = True, *,
                   frame_sizes=FRAME_SIZES, cycle_size=CYCLE_SIZE, cycle_frames: int = CYCLE_FRAMES,
-                  numpy_reference: bool = True, scaling: bool = True, profile: bool = True) -> dict:
+                  numpy_reference: bool = True, scaling: bool = True, profile: bool = True,
+                  rgb: bool = True) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
@@ -314,6 +329,12 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         res = measure("frame", w, h, repeats, numpy_only=True)
         for stage, times in res["times"].items():
             rows.append(_row(f"Figure 6 frame {w}x{h}, NumPy kernels", stage, times, w * h, res))
+    if rgb:
+        w, h = frame_sizes[-1]
+        log(f"RGB back end at {w}x{h} ...")
+        res = measure("rgb", w, h, repeats)
+        for stage, times in res["times"].items():
+            rows.append(_row(f"RGB {w}x{h}", stage, times, w * h, res))
     if cycle:
         w, h = cycle_size
         log(f"{cycle_frames}-frame wave cycle, coded and filmed, at {w}x{h} ...")

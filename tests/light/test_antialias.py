@@ -49,3 +49,11 @@ def test_one_sample_per_pixel_is_deterministic():
     a = render_rgb(scene, 0.5, 0.4, samples=4)
     b = render_rgb(scene, 0.5, 0.4, samples=4)
     np.testing.assert_array_equal(a, b)
+
+
+def test_bench_measures_the_rgb_back_end():
+    from sunset import bench
+
+    times = bench._measure_rgb(24, 20, 1)
+    assert set(times) == {"shade stored frame", "light of one hour", "4-sample frame"}
+    assert all(len(v) == 1 and v[0] > 0 for v in times.values())
