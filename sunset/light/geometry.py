@@ -46,7 +46,13 @@ class WaterLayer:
 
 @dataclass
 class Geometry:
-    """Per-pixel light paths of one frame (flattened, row-major), independent of the hour."""
+    """Per-pixel light paths of one frame (flattened, row-major), independent of the hour.
+
+    Besides the per-pixel fields it keeps the compressed lists the shader's
+    kernels read (:mod:`sunset.light.kernel`): the pixels ending in the sky with
+    their rays' table rows and azimuths, those ending on an island with their
+    normals' cells in the skylight table, and the water entries of all bounces.
+    """
 
     shape: tuple
     final_dir: np.ndarray      # (N, 3) float32
@@ -54,22 +60,35 @@ class Geometry:
     final_normal: np.ndarray   # (N, 3) float32 (islands; 0 elsewhere)
     throughput: np.ndarray     # (N,) float32: product of the Fresnel reflectances
     water: list                # of WaterLayer
-    sky_rows: np.ndarray       # (S,) float32: sky-grid row of the sky pixels (√z scaled)
-    sky_azimuth: np.ndarray    # (S,) float32: azimuth of their final rays
     sky_index: np.ndarray      # (S,) intp: which pixels end in the sky
+    sky_dir: np.ndarray        # (S, 3) float32: their final rays
+    sky_r0: np.ndarray         # (S,) int32: the refined sky table's row below each ray
+    sky_fr: np.ndarray         # (S,) float32: and the fraction towards the next
+    sky_azimuth: np.ndarray    # (S,) float32: azimuth of their final rays
+    island_index: np.ndarray   # (I,) intp: which pixels end on an island
+    island_g: np.ndarray       # (I, 2) int32: the cell of the normal in the skylight table
+    island_f: np.ndarray       # (I, 2) float32: and the fractions inside it
+    water_starts: np.ndarray   # (layers,) intp: first entry of each bounce's water
+    water_index: np.ndarray    # (M,) intp
+    water_up: np.ndarray       # (M, 3) float32
+    water_mu: np.ndarray       # (M,) float32: max(up_z, 0)
+    water_weight: np.ndarray   # (M,) float32
+    water_sky: np.ndarray      # (M,) float32: weight × (1/4π)/(μ̄ + μ_u), the skylight's factor
     n: float = WATER_REFRACTIVE_INDEX
 
     @property
     def nbytes(self) -> int:
-        arrays = [self.final_dir, self.final_kind, self.final_normal, self.throughput, self.sky_rows,
-                  self.sky_azimuth, self.sky_index]
+        arrays = [self.final_dir, self.final_kind, self.final_normal, self.throughput, self.sky_index, self.sky_dir,
+                  self.sky_r0, self.sky_fr, self.sky_azimuth, self.island_index, self.island_g, self.island_f,
+                  self.water_index, self.water_up, self.water_mu, self.water_weight, self.water_sky]
         arrays += [a for w in self.water for a in (w.index, w.up, w.weight)]
         return int(sum(a.nbytes for a in arrays))
 
     @classmethod
     def from_frame(cls, frame, n: float = WATER_REFRACTIVE_INDEX) -> "Geometry":
         """Build from a traced frame (after :func:`sunset.render`)."""
-        from .lighting import sky_row
+        from .lighting import NORMAL_GRID, SKY_REFINE, SKY_ROWS, sky_row
+        from .water import diffuse_mean_cosine
 
         if frame.final_surface is None or frame.incidence is None:
             raise SunsetError("the frame has no reflected rays: render it with sunset.render first")
@@ -118,11 +137,26 @@ class Geometry:
 
         sky_index = np.flatnonzero(kind == SKY)
         fd = final_dir[sky_index].astype(np.float64)
-        rows = sky_row(fd[:, 2]).astype(np.float32)
+        r_max = (SKY_ROWS - 1) * SKY_REFINE[0]
+        rows = np.clip(sky_row(fd[:, 2]) * SKY_REFINE[0], 0, r_max)
+        r0 = np.minimum(rows.astype(np.int32), r_max - 1)
         az = np.arctan2(fd[:, 1], fd[:, 0]).astype(np.float32)
+        island_index = np.flatnonzero(kind > 0)
+        g = (np.clip(normal[island_index, :2].astype(np.float64), -1, 1) + 1.0) * (0.5 * (NORMAL_GRID - 1))
+        g0 = np.minimum(g.astype(np.int32), NORMAL_GRID - 2)
+        mu_bar = diffuse_mean_cosine(n)
+        w_up = np.concatenate([w.up for w in layers]) if layers else np.zeros((0, 3), np.float32)
+        w_weight = np.concatenate([w.weight for w in layers]) if layers else np.zeros(0, np.float32)
+        w_mu = np.maximum(w_up[:, 2], np.float32(0))
+        w_sky = (w_weight.astype(np.float64) / (4.0 * np.pi) / (mu_bar + w_mu.astype(np.float64))).astype(np.float32)
+        starts = np.cumsum([0] + [len(w.index) for w in layers[:-1]]).astype(np.intp) if layers else np.zeros(0, np.intp)
         return cls(shape=(h, w), final_dir=final_dir, final_kind=kind, final_normal=normal,
-                   throughput=throughput.astype(np.float32), water=layers, sky_rows=rows, sky_azimuth=az,
-                   sky_index=sky_index, n=float(n))
+                   throughput=throughput.astype(np.float32), water=layers, sky_index=sky_index,
+                   sky_dir=np.ascontiguousarray(final_dir[sky_index]), sky_r0=r0, sky_fr=(rows - r0).astype(np.float32),
+                   sky_azimuth=az, island_index=island_index, island_g=g0, island_f=(g - g0).astype(np.float32),
+                   water_starts=starts, water_index=np.concatenate([w.index for w in layers]) if layers
+                   else np.zeros(0, np.intp), water_up=np.ascontiguousarray(w_up), water_mu=w_mu,
+                   water_weight=w_weight, water_sky=w_sky, n=float(n))
 
 
 def _water(index, incident, normal, cos_i, before, n) -> WaterLayer:

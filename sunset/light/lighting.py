@@ -54,6 +54,8 @@ __all__ = ["Lighting", "SKY_ROWS", "SKY_COLUMNS", "NORMAL_GRID", "PARTS"]
 #: Rows (√z) and columns (φ = π v²) of the sky grid.
 SKY_ROWS = 64
 SKY_COLUMNS = 64
+#: The shader reads a linear copy of the sky table refined this many times in rows and in columns.
+SKY_REFINE = (4, 2)
 #: Samples per side of the island normals' grid over (N_x, N_y) in [−1, 1]².
 NORMAL_GRID = 33
 #: Island parts by Frame.part code (1 beach, 2 cliff, 3 hill) and the reflectance names.
@@ -135,6 +137,7 @@ class Lighting:
     delta: float
     sun_azimuth: float
     sky_table: np.ndarray          # (SKY_ROWS, SKY_COLUMNS, 3) log XYZ
+    sky_linear: np.ndarray         # (refined rows, refined columns, 3) float32 XYZ: what the shader reads
     sun_xyz: np.ndarray            # (3,) radiance of the disk
     island_direct: dict            # part code -> (3,) XYZ of albedo × direct normal irradiance / π
     island_sky: dict               # part code -> (NORMAL_GRID, NORMAL_GRID, 3) XYZ of albedo × skylight / π
@@ -162,6 +165,11 @@ class Lighting:
         grid = sky_grid_directions(az)
         sky = _spectrum_to_xyz(sky_radiance(grid.reshape(-1, 3), p, columns=tabulated_columns)).reshape(grid.shape)
         sky = np.log(np.maximum(sky, _LOG_FLOOR))
+        fr, fc = SKY_REFINE
+        rows = np.arange((SKY_ROWS - 1) * fr + 1) / fr
+        cols = np.arange((SKY_COLUMNS - 1) * fc + 1) / fc
+        rr, cc = np.meshgrid(rows, cols, indexing="ij")
+        sky_linear = np.exp(bilinear(sky, rr, cc)).astype(np.float32)
         e_sun = math.asin(max(-1.0, min(1.0, p[2])))
         sun_xyz = _spectrum_to_xyz(sun_radiance(e_sun, delta))
         direct = direct_irradiance(p, delta)
@@ -183,14 +191,28 @@ class Lighting:
         hn = np.linalg.norm(horiz)
         # the light travels away from the sun: down, and horizontally away from the sun's azimuth
         beam = np.array([0.0, 0.0, -1.0]) if hn == 0 else np.append(-horiz[:2] / hn * math.sqrt(1 - mu_t**2), -mu_t)
-        return cls(sun_dir=p, delta=float(delta), sun_azimuth=az, sky_table=sky, sun_xyz=sun_xyz,
+        return cls(sun_dir=p, delta=float(delta), sun_azimuth=az, sky_table=sky, sky_linear=sky_linear, sun_xyz=sun_xyz,
                    island_direct=island_direct, island_sky=island_sky, water_sun=water_sun, water_sky=water_sky,
                    beam=beam, scale=exposure(p), n=float(n))
 
     # ----------------------------------------------------------------- lookups
     def sky_at(self, rows, cols) -> np.ndarray:
-        """Sky radiance XYZ at fractional grid coordinates (:func:`sky_row`, :func:`sky_column`)."""
-        return np.exp(bilinear(self.sky_table, rows, cols))
+        """Sky radiance XYZ at fractional grid coordinates (:func:`sky_row`, :func:`sky_column`).
+
+        Read linearly from :attr:`sky_linear`, the grid refined :data:`SKY_REFINE`
+        times by interpolating the logarithm (so within a refined cell the
+        radiance is nearly linear).
+        """
+        return bilinear(self.sky_linear, np.asarray(rows) * SKY_REFINE[0], np.asarray(cols) * SKY_REFINE[1])
+
+    def island_tables(self) -> tuple[np.ndarray, np.ndarray]:
+        """(direct (4, 3), skylight (4, G, G, 3)) float32 by part code (row 0 unused): the shader's island tables."""
+        direct = np.zeros((4, 3), np.float32)
+        table = np.zeros((4, NORMAL_GRID, NORMAL_GRID, 3), np.float32)
+        for code in PARTS:
+            direct[code] = self.island_direct[code]
+            table[code] = self.island_sky[code]
+        return direct, table
 
     def sky(self, directions) -> np.ndarray:
         """Sky radiance XYZ along unit ``directions`` (..., 3), without the sun's disk or extra layers."""

@@ -12,7 +12,9 @@ reversed refracted ray u_k (:mod:`sunset.light.water`):
     L_u(u) = ω E'_sun p(ψ)/(μ'_sun + u_z) + ω E'_sky (1/4π)/(μ̄ + u_z),
 
 both ω E' vectors in XYZ per hour (:class:`~sunset.light.lighting.Lighting`).
-Everything is float32 XYZ radiance in the sky model's units.
+Everything is float32 XYZ radiance in the sky model's units. The per-pixel
+loops are the kernels of :mod:`sunset.light.kernel`; the extra sky layers and
+light sources of a Lighting are applied between them.
 """
 
 from __future__ import annotations
@@ -21,10 +23,9 @@ import math
 
 import numpy as np
 
-from ..constants import SKY
-from . import water
 from .geometry import Geometry
-from .lighting import Lighting, sky_column
+from .kernel import combine, island_pixels, sky_pixels
+from .lighting import SKY_REFINE, Lighting
 
 __all__ = ["shade"]
 
@@ -32,33 +33,19 @@ __all__ = ["shade"]
 def shade(geometry: Geometry, light: Lighting) -> np.ndarray:
     """Radiance XYZ (H, W, 3) float32 of a stored frame under ``light``."""
     g = geometry
-    out = np.zeros((g.final_dir.shape[0], 3), np.float32)
-    # the sky and the sun along the final rays that reach the sky
-    si = g.sky_index
-    if len(si):
-        sky = light.sky_at(g.sky_rows, sky_column(g.sky_azimuth, light.sun_azimuth))
-        fd = g.final_dir[si]
-        near = fd @ light.sun_dir.astype(np.float32) > np.float32(math.cos(light.delta))
-        if np.any(near):
-            sky[near] += light.sun(fd[near])
-        for layer in light.extra_sky:
-            sky = layer(fd, sky)
-        out[si] = sky
-    # the islands the final rays end on
-    isl = np.flatnonzero(g.final_kind > 0)
-    if len(isl):
-        out[isl] = light.island(g.final_normal[isl], g.final_kind[isl])
-    out *= g.throughput[:, None]
-    # the water seen at each bounce
-    mu_beam = np.float32(-light.beam[2])
-    mu_bar = np.float32(water.diffuse_mean_cosine(light.n))
-    beam = light.beam.astype(np.float32)
-    ws = light.water_sun.astype(np.float32)
-    wk = light.water_sky.astype(np.float32)
-    for layer in g.water:
-        up = layer.up
-        mu = np.maximum(up[:, 2], np.float32(0))
-        f_sun = water.upwelling(mu, mu_beam, up @ beam) * layer.weight
-        f_sky = (np.float32(1 / (4 * math.pi)) / (mu_bar + mu)) * layer.weight
-        out[layer.index] += f_sun[:, None] * ws + f_sky[:, None] * wk
+    sky = sky_pixels(g.sky_r0, g.sky_fr, g.sky_azimuth, g.sky_dir, light.sky_linear, light.sun_azimuth,
+                     (light.sky_table.shape[1] - 1) * SKY_REFINE[1], light.sun_dir,
+                     math.cos(light.delta), light.sun_xyz)
+    for layer in light.extra_sky:
+        sky = np.asarray(layer(g.sky_dir, sky), np.float32)
+    direct, table = light.island_tables()
+    isl_normal = g.final_normal[g.island_index]
+    isl_part = g.final_kind[g.island_index]
+    island = island_pixels(isl_normal, isl_part, g.island_g[:, 0], g.island_g[:, 1], g.island_f[:, 0],
+                           g.island_f[:, 1], light.sun_dir, direct, table)
+    for source in light.extra_irradiance:
+        island = np.asarray(island + source(None, isl_normal, isl_part), np.float32)
+    out = combine(g.final_dir.shape[0], g.throughput, g.sky_index, sky, g.island_index, island, g.water_starts,
+                  g.water_index, g.water_up, g.water_mu, g.water_weight, g.water_sky, light.beam, -light.beam[2],
+                  light.water_sun, light.water_sky)
     return out.reshape(g.shape + (3,))

@@ -18,7 +18,8 @@ import functools
 
 import numpy as np
 
-from ..model.eye import exposure_key, film_white, reference_white, srgb_decode, srgb_encode, xyz_response
+from ..constants import EYE_RESPONSE_EXPONENT, EYE_SEMI_SATURATION
+from ..model.eye import exposure_key, film_white, reference_white, srgb_decode, srgb_encode
 
 __all__ = ["xyz_to_rgb_matrix", "exposure", "scene_linear", "display_linear", "encode_srgb", "decode_srgb"]
 
@@ -53,7 +54,10 @@ def scene_linear(xyz, scale: float) -> np.ndarray:
 
 
 def display_linear(xyz, scale: float) -> np.ndarray:
-    """XYZ radiance (..., 3) → linear display RGB in [0, 1] (..., 3): the film's response (:func:`sunset.model.eye.xyz_response`).
+    """XYZ radiance (..., 3) → linear display RGB in [0, 1] (..., 3): the film's response, per pixel.
+
+    :func:`sunset.model.eye.xyz_response` with the XYZ → sRGB matrix, as the
+    kernel :func:`sunset.light.kernel.display_pixels` (the tests compare the two).
 
     Parameters
     ----------
@@ -62,5 +66,9 @@ def display_linear(xyz, scale: float) -> np.ndarray:
     scale : float
         :func:`exposure` of the hour.
     """
-    m = xyz_to_rgb_matrix()
-    return xyz_response(np.asarray(xyz, dtype=float) / scale, lambda x: x @ m)
+    from .kernel import display_pixels
+
+    xyz = np.asarray(xyz)
+    flat = display_pixels(xyz.reshape(-1, 3), float(scale), xyz_to_rgb_matrix(), EYE_RESPONSE_EXPONENT,
+                          EYE_SEMI_SATURATION)
+    return flat.reshape(xyz.shape)
