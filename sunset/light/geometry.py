@@ -18,6 +18,12 @@ reflection modes — the |R_z| fold of a ray still heading down. The fold is
 a reflection off the mean surface, so here it is a third bounce with the
 normal (0, 0, 1): its Fresnel factor and its water are counted too.
 
+Posts standing in the water are shaded as brown wood with the cliff's
+albedo, as the 8-bit codes code them. Clouds are not drawn by this back end
+yet: a ray that the vector stage ends on a cloud sees the sky behind it (the
+place for clouds is a :class:`~sunset.light.lighting.Lighting`'s extra sky
+layers).
+
 Shading a Geometry for an hour (:func:`sunset.light.shade.shade`) is then a
 handful of array operations per pixel, with no ray traced again.
 """
@@ -28,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import SEA, SKY, WATER_REFRACTIVE_INDEX
+from ..constants import CLOUD, PART_CLIFF, POST, SEA, SKY, WATER_REFRACTIVE_INDEX
 from ..errors import SunsetError
 from .fresnel import reflectance, refract
 
@@ -98,7 +104,10 @@ class Geometry:
         final_surface = frame.final_surface.reshape(-1)
         final_part = frame.final_part.reshape(-1)
         final_dir = np.ascontiguousarray(frame.ray.reshape(-1, 3), np.float32).copy()
-        kind = np.where(final_surface == SKY, SKY, final_part).astype(np.int8)
+        # posts in the water are brown wood, shaded as the cliff (as the 8-bit codes do); the RGB back end
+        # draws no clouds yet (a Lighting's extra sky layers are where they go): their rays see the sky
+        kind = np.where((final_surface == SKY) | (final_surface == CLOUD), SKY,
+                        np.where(final_surface == POST, PART_CLIFF, final_part)).astype(np.int8)
         normal = np.nan_to_num(frame.final_normal.reshape(-1, 3).astype(np.float32), nan=0.0)
         throughput = np.ones(npx, np.float64)
         layers = []

@@ -9,11 +9,12 @@ number of stored frames (deferred shading, :mod:`sunset.light.shade`).
   the sun's frame: rows by the elevation e = (π/2) u² (finer near the
   horizon), columns by the azimuth φ from the sun's azimuth as φ = π v²
   (finer near the sun, where the aerosol's forward peak is), u, v in [0, 1];
-  the sky is symmetric about the sun's vertical plane. Per pixel the grid is
-  read bilinearly in the logarithm of the radiance (:meth:`Lighting.sky`),
-  which follows the sky's steep exponential fall into the Earth's shadow at
-  twilight; the tests bound the error of that against the model evaluated
-  at the pixel's own direction. The sun's columns inside the model are read
+  the sky is symmetric about the sun's vertical plane. The grid is refined
+  (:data:`SKY_REFINE`) by interpolating the logarithm of the radiance, which
+  follows the sky's steep exponential fall into the Earth's shadow at
+  twilight, and per pixel the refined grid is read bilinearly
+  (:meth:`Lighting.sky`); the tests bound the error of that against the model
+  evaluated at the pixel's own direction. The sun's columns inside the model are read
   from a table too (:func:`tabulated_columns`).
 * **Sun**: the disk of angular radius δ, uniformly bright, its radiance the
   sky model's :func:`~sunset.model.sky.sun_radiance`.

@@ -156,3 +156,31 @@ def test_extra_layers_and_irradiance_are_applied(small):
     direct_sky = sky & (g.throughput.reshape(g.shape) == 1)
     np.testing.assert_allclose(other[direct_sky], 0.5 * base[direct_sky], rtol=1e-6)
     assert np.all(other[isl] > base[isl])
+
+
+@pytest.mark.parametrize("name", ["carlas-island-clouds"])
+def test_scenes_with_clouds_and_posts_shade_without_nan(name):
+    from sunset.model.scene import load_named_scene
+
+    scene = load_named_scene(name).with_size(40, 36)
+    img = render_rgb(scene, 0.0, 0.3, samples=1)
+    assert np.all(np.isfinite(img)) and img.min() >= 0 and img.max() <= 1
+    assert np.all(img.max(axis=-1) > 0)                 # no pixel left unshaded (black)
+
+
+def test_posts_are_shaded_as_wood():
+    from dataclasses import replace
+
+    from sunset.constants import POST
+    from sunset.model.posts import Post
+    from sunset.model.scene import load_named_scene
+
+    scene = replace(load_named_scene("carlas-island").with_size(72, 64),
+                    posts=(Post(x=-1.5, y=14.0, radius=0.25, top=2.5, depth=3.0),))
+    frame = sunset.render(scene, 0.3, 2)
+    post = frame.final_surface == POST
+    assert post.any()
+    g = Geometry.from_frame(frame)
+    assert np.all(g.final_kind.reshape(frame.shape)[post] == 2)
+    xyz = shade(g, Lighting.for_hour(scene.sun, 1.0))
+    assert np.all(np.isfinite(xyz)) and np.all(xyz[post].sum(axis=-1) > 0)
