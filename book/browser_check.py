@@ -492,6 +492,68 @@ def _compare_dumps(dt: DevTools, session: str, url: str, allowed: str, data: dic
     return problems, lines
 
 
+def filtered_png(codes) -> bytes:
+    """An 8-bit greyscale PNG of ``codes`` whose rows use the five PNG filters in turn (row y: y mod 5).
+
+    Written here from the PNG specification (section 9, filter types None,
+    Sub, Up, Average, Paeth), so that the player's decoder meets every filter,
+    whichever ones Pillow happened to choose for the frames.
+    """
+    import struct
+    import zlib
+
+    import numpy as np
+
+    x = np.asarray(codes, dtype=np.int64)
+    h, w = x.shape
+    rows = []
+    for y in range(h):
+        cur = x[y]
+        up = x[y - 1] if y else np.zeros(w, np.int64)
+        a = np.concatenate([[0], cur[:-1]])
+        c = np.concatenate([[0], up[:-1]])
+        f = y % 5
+        if f == 0:
+            pred = np.zeros(w, np.int64)
+        elif f == 1:
+            pred = a
+        elif f == 2:
+            pred = up
+        elif f == 3:
+            pred = (a + up) // 2
+        else:
+            p = a + up - c
+            pa, pb, pc = np.abs(p - a), np.abs(p - up), np.abs(p - c)
+            pred = np.where((pa <= pb) & (pa <= pc), a, np.where(pb <= pc, up, c))
+        rows.append(bytes([f]) + ((cur - pred) % 256).astype(np.uint8).tobytes())
+
+    def chunk(kind: bytes, body: bytes) -> bytes:
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(b"".join(rows))) + chunk(b"IEND", b""))
+
+
+def _check_png_filters(dt: DevTools, session: str, data: dict) -> list[str]:
+    """The player's PNG decoder, on a PNG that uses all five row filters (checked first with Pillow)."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    codes = np.random.default_rng(14).integers(0, 256, (data["height"], data["width"]), dtype=np.uint8)
+    codes[:, : data["width"] // 2] //= 8                   # smooth and noisy parts, so that every filter matters
+    png = filtered_png(codes)
+    with Image.open(io.BytesIO(png)) as img:
+        if not np.array_equal(np.asarray(img), codes):
+            return ["the test PNG with all five filters does not decode to its codes in Pillow"]
+    b64 = base64.b64encode(png).decode("ascii")
+    got = _evaluate(dt, session, f"window.sunsetPlayer.decodePng('{b64}')")
+    if not np.array_equal(np.asarray(got, dtype=np.int64).reshape(codes.shape), codes):
+        return ["the player's PNG decoder gets a PNG with all five row filters wrong"]
+    return []
+
+
 def _dump_cases(data: dict) -> list[tuple[int, float]]:
     """Frames and hours to compare: the ends of the grid, and the hours where the rim has most sky pixels."""
     import numpy as np
@@ -574,6 +636,11 @@ def check_player(dt: DevTools, session: str, base: str, root: Path, pages: list[
 
     # Playing changes the canvas; with the sun setting, the hour moves on too.
     events = _open_player(dt, session, url)
+    png_problems = _check_png_filters(dt, session, data)
+    problems += [f"{rel}: {x}" for x in png_problems]
+    if not png_problems:
+        lines.append(f"{rel}: the PNG decoder gets a {data['width']}x{data['height']} PNG using all five row "
+                     f"filters exactly")
     _evaluate(dt, session, "window.sunsetPlayer.pause(), window.sunsetPlayer.draw(0, 0), true")
     before = _canvas(dt, session)
     _evaluate(dt, session, "document.querySelector('#sunset-player [data-role=follow]').click(), "

@@ -373,6 +373,8 @@
     pause,
     draw(f, h) { state.frame = f; state.hour = h; draw(); },
     nearestHour,
+    /* Decode a base64 8-bit greyscale PNG of the player's size, as the frames are decoded: an array of codes. */
+    decodePng: (b64) => decodePng(bytes(b64)).then((codes) => Array.from(codes)),
     /* Time `count` blocks of ten draws (compose + putImageData) of varying frames and hours:
        the milliseconds per draw in each block (a block beats the timer's coarse resolution). */
     bench(count) {
