@@ -282,8 +282,8 @@
       const y = Math.floor((e.clientY - rect.top) / rect.height * H);
       return x >= 0 && x < W && y >= 0 && y < H ? [x, y] : null;
     };
-    picture.addEventListener("mousemove", (e) => { state.hover = where(e); inspect(); });
-    picture.addEventListener("mouseleave", () => { state.hover = null; inspect(); });
+    picture.addEventListener("pointermove", (e) => { state.hover = where(e); inspect(); });
+    picture.addEventListener("pointerleave", () => { state.hover = null; inspect(); });
   }
 
   // ----------------------------------------------------------------- the codes: lossless 8-bit PNG frames

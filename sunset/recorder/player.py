@@ -225,7 +225,41 @@ def _png(codes: np.ndarray) -> bytes:
     return png_bytes(codes)
 
 
-def player_data(tape, grid, start_hours: float | None = None, progress: bool = False) -> dict:
+def _hour_task(args) -> tuple[np.ndarray, dict | None]:
+    scene, hours = args
+    return tables(scene.sun, hours, scene.clouds), sun_geometry(scene, hours)
+
+
+def _hour_rows(scene, grid, workers: int | None, on_hour):
+    """(tables, sun geometry) of every grid hour, in order, over ``workers`` processes.
+
+    The hours are independent and each is computed by the same deterministic
+    code as in one process, so the result is the same whatever ``workers``.
+    """
+    import multiprocessing
+    import sys
+    from concurrent.futures import ProcessPoolExecutor
+
+    from ..tape.cycle import frame_workers
+
+    tasks = [(scene, float(h)) for h in grid]
+    n = frame_workers(workers, len(tasks))
+    if n <= 1:
+        for task in tasks:
+            yield _hour_task(task)
+            on_hour()
+        return
+    methods = multiprocessing.get_all_start_methods()    # as sunset.tape.cycle.code_frames chooses
+    method = "fork" if "fork" in methods and sys.version_info < (3, 12) else (
+        "forkserver" if "forkserver" in methods else "spawn")
+    with ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method)) as pool:
+        for row in pool.map(_hour_task, tasks):
+            yield row
+            on_hour()
+
+
+def player_data(tape, grid, start_hours: float | None = None, progress: bool = False,
+                workers: int | None = None) -> dict:
     """Everything the player needs, as one JSON-ready dict (see the module's docstring).
 
     Parameters
@@ -238,6 +272,9 @@ def player_data(tape, grid, start_hours: float | None = None, progress: bool = F
         The hour the player opens at (the grid hour nearest it); default the first.
     progress : bool
         Show a progress bar on stderr while the tables are computed.
+    workers : int, optional
+        Processes computing the tables; default as for the frames
+        (:func:`~sunset.tape.cycle.frame_workers`). The data does not depend on it.
     """
     scene = tape.scene
     grid = np.asarray(grid, dtype=np.float64).reshape(-1)
@@ -250,10 +287,9 @@ def player_data(tape, grid, start_hours: float | None = None, progress: bool = F
     cmap = code_map(scene)
     tabs, suns = [], []
     with _bar(grid.size, "colour tables", progress) as bar:
-        for h in grid:
-            tabs.append(tables(sun, float(h), scene.clouds))
-            suns.append(sun_geometry(scene, float(h)))
-            bar.update(1)
+        for tab, sun_row in _hour_rows(scene, grid, workers, lambda: bar.update(1)):
+            tabs.append(tab)
+            suns.append(sun_row)
     period = scene.sea.period
     return {
         "format": PLAYER_FORMAT,

@@ -176,6 +176,11 @@ def test_player_data_holds_the_tape_tables_and_grid(tape, grid, data):
     assert data["sky_start"] == CODE_MAP.sky.start
 
 
+def test_player_data_is_the_same_over_two_processes(tape, grid, data):
+    assert player_data(tape, grid, start_hours=0.12, workers=2) == data
+    assert player_data(tape, grid, start_hours=0.12, workers=1) == data
+
+
 def test_compose_is_expose_for_every_frame_and_hour(tape, grid, data):
     """The data is enough: table lookups plus the exported sun give sunset.expose's pixels exactly."""
     rim = 0
