@@ -268,3 +268,12 @@ POST_MAX_RADIUS = 20.0
 POST_MAX_TOP = 100.0
 #: Most posts in one scene.
 POST_MAX_COUNT = 16
+#: Light tracing of the ripples: the kernel's radius in texel heights, the most sun rays in one
+#: texture (memory: about 200 bytes a ray), and the farthest reach of the water patch, metres.
+RIPPLE_BANDWIDTH_TEXELS = 1.5
+RIPPLE_MAX_RAYS = 1 << 23
+RIPPLE_MAX_REACH = 80.0
+#: How many rms slopes the water patch allows for (sunset/light/ripples.py).
+RIPPLE_SLOPE_SIGMAS = 2.0
+#: Depths at which the RGB back end tabulates a cloud's light for an hour (sunset/light/lighting.py).
+CLOUD_TABLE_DEPTHS = 64

@@ -23,6 +23,8 @@ FIGURES: dict[str, tuple[str, str]] = {
     "film": ("film.mp4", "the colour-table animation of one wave cycle (and film-preview.webp)"),
     "rgb": ("fig6-rgb.png", "Figure 6 as the future work imagined: paint by numbers beside the RGB back end"),
     "quantisation": ("quantisation.png", "the 8-bit test: the RGB frame in 256 colours, CIEDE2000 maps"),
+    "clouds": ("clouds.png", "future work: Carla's Island under clouds, the sun hidden and shown (and clouds-rgb.png)"),
+    "ripples": ("ripples.png", "future work: ripples of light thrown by the waves onto a post"),
 }
 
 
@@ -61,6 +63,13 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
     if name == "quantisation":
         from .rgb import quantisation_figure
         return [quantisation_figure(out / "quantisation.png", scene, seed=seed)]
+    if name == "clouds":
+        from .future import clouds_figure
+        from .future import clouds_rgb_figure
+        return [clouds_figure(out / "clouds.png", scene, seed=seed), clouds_rgb_figure(out / "clouds-rgb.png", scene)]
+    if name == "ripples":
+        from .future import ripples_figure
+        return [ripples_figure(out / "ripples.png", seed=seed)]
     if name == "film":
         from ..recorder.film import make_film
         return list(make_film(scene, out / "film.mp4", out / "film-preview.webp", frames=film_frames,

@@ -40,7 +40,7 @@ def figure6_frames(scene, hours: float = SUNSET_HOURS, seed: int = 0, t: float =
 
     frame = render(scene, t, 2)
     codes = encode(scene, frame, seed=seed)
-    light = Lighting.for_hour(scene.sun, hours)
+    light = Lighting.for_scene(scene, hours)
     rgb1 = shade_display(Geometry.from_frame(frame), light)
     return expose(scene, codes, hours), rgb1, codes, sun_disk_pixels(scene, codes, hours)
 
@@ -70,7 +70,7 @@ def rgb_figure6(path, scene, hours: float = SUNSET_HOURS, seed: int = 0, t: floa
     path = check_writable(path)
     k = check_samples(samples)
     pbn = expose(scene, encode(scene, render(scene, t, 2), seed=seed), hours)
-    rgb = to_uint8(shade_display(trace_geometry(scene, t, 2, samples), Lighting.for_hour(scene.sun, hours), k))
+    rgb = to_uint8(shade_display(trace_geometry(scene, t, 2, samples), Lighting.for_scene(scene, hours), k))
     h, w = pbn.shape[:2]
     both = np.full((h, 2 * w + GAP, 3), 255, np.uint8)
     both[:, :w] = pbn

@@ -74,7 +74,7 @@ def aa_errors(scene, t: float = 0.0, hours: float = 0.35, samples=(1, 4, 9, 16),
     """Render ``scene`` at each sample count and at ``reference`` samples; the errors at edges and the sun's rim."""
     from ..vector.render import render
 
-    light = Lighting.for_hour(scene.sun, hours)
+    light = Lighting.for_scene(scene, hours)
     kr = check_samples(reference)
     ref_frame = render(supersampled(scene, kr), float(t), reflections)
     ref_geom = Geometry.from_frame(ref_frame)

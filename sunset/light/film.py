@@ -19,7 +19,7 @@ from pathlib import Path
 from ..errors import SunsetError, require_finite, require_int_range
 from .lighting import Lighting
 from .output import check_rgb_output, save_rgb, to_uint8
-from .render import check_samples, shade_display, shade_scene_linear, trace_geometry
+from .render import check_samples, frame_light, shade_display, shade_scene_linear, trace_geometry
 
 __all__ = ["MAX_GEOMETRY_BYTES", "GEOMETRY_BYTES_PER_RAY", "write_rgb_frame", "trace_cycle", "film_frames"]
 
@@ -36,7 +36,7 @@ def write_rgb_frame(scene, path, t: float = 0.0, hours: float = 0.35, samples: i
     k = check_samples(samples)
     require_finite("hours", hours)
     geometry = trace_geometry(scene, t, reflections, samples)
-    light = Lighting.for_hour(scene.sun, hours)
+    light = frame_light(scene, t, hours)
     if path.suffix.lower() == ".npy":
         return save_rgb(path, None, shade_scene_linear(geometry, light, k), depth=depth)
     return save_rgb(path, shade_display(geometry, light, k), depth=depth, metadata=metadata)
@@ -71,4 +71,4 @@ def film_frames(scene, geometries, hours, samples: int = 1):
     k = check_samples(samples)
     n = len(geometries)
     for j, h in enumerate(hours):
-        yield to_uint8(shade_display(geometries[j % n], Lighting.for_hour(scene.sun, float(h)), k))
+        yield to_uint8(shade_display(geometries[j % n], Lighting.for_scene(scene, float(h)), k))

@@ -19,10 +19,12 @@ a reflection off the mean surface, so here it is a third bounce with the
 normal (0, 0, 1): its Fresnel factor and its water are counted too.
 
 Posts standing in the water are shaded as brown wood with the cliff's
-albedo, as the 8-bit codes code them. Clouds are not drawn by this back end
-yet: a ray that the vector stage ends on a cloud sees the sky behind it (the
-place for clouds is a :class:`~sunset.light.lighting.Lighting`'s extra sky
-layers).
+albedo, as the 8-bit codes code them; the points where direct rays meet an
+island or a post are kept (``island_point``) for light that depends on the
+place, such as the ripples of light (:mod:`sunset.light.ripples`). A ray that
+the vector stage ends on a cloud keeps the cloud's depth below the mean level
+(``sky_cloud``): the shader gives it the cloud's light of the hour instead of
+the sky's (:meth:`~sunset.light.lighting.Lighting.with_clouds`).
 
 Shading a Geometry for an hour (:func:`sunset.light.shade.shade`) is then a
 handful of array operations per pixel, with no ray traced again.
@@ -81,6 +83,8 @@ class Geometry:
     water_weight: np.ndarray   # (M,) float32
     water_sky: np.ndarray      # (M,) float32: weight × (1/4π)/(μ̄ + μ_u), the skylight's factor
     n: float = WATER_REFRACTIVE_INDEX
+    sky_cloud: np.ndarray | None = None     # (S,) float32: depth of the cloud a sky ray ends on, NaN: none
+    island_point: np.ndarray | None = None  # (I, 3) float32: the direct ray's hit (eye at the origin), NaN if reflected
 
     @property
     def nbytes(self) -> int:
@@ -88,6 +92,7 @@ class Geometry:
                   self.sky_r0, self.sky_fr, self.sky_azimuth, self.island_index, self.island_g, self.island_f,
                   self.water_index, self.water_up, self.water_mu, self.water_weight, self.water_sky]
         arrays += [a for w in self.water for a in (w.index, w.up, w.weight)]
+        arrays += [a for a in (self.sky_cloud, self.island_point) if a is not None]
         return int(sum(a.nbytes for a in arrays))
 
     @classmethod
@@ -104,8 +109,8 @@ class Geometry:
         final_surface = frame.final_surface.reshape(-1)
         final_part = frame.final_part.reshape(-1)
         final_dir = np.ascontiguousarray(frame.ray.reshape(-1, 3), np.float32).copy()
-        # posts in the water are brown wood, shaded as the cliff (as the 8-bit codes do); the RGB back end
-        # draws no clouds yet (a Lighting's extra sky layers are where they go): their rays see the sky
+        # posts in the water are brown wood, shaded as the cliff (as the 8-bit codes do); rays that end on a
+        # cloud are sky rays that keep the cloud's depth (sky_cloud below)
         kind = np.where((final_surface == SKY) | (final_surface == CLOUD), SKY,
                         np.where(final_surface == POST, PART_CLIFF, final_part)).astype(np.int8)
         normal = np.nan_to_num(frame.final_normal.reshape(-1, 3).astype(np.float32), nan=0.0)
@@ -159,13 +164,20 @@ class Geometry:
         w_mu = np.maximum(w_up[:, 2], np.float32(0))
         w_sky = (w_weight.astype(np.float64) / (4.0 * np.pi) / (mu_bar + w_mu.astype(np.float64))).astype(np.float32)
         starts = np.cumsum([0] + [len(w.index) for w in layers[:-1]]).astype(np.intp) if layers else np.zeros(0, np.intp)
+        sky_cloud = None
+        if frame.cloud_depth is not None:
+            depth = frame.cloud_depth.reshape(-1)[sky_index]
+            sky_cloud = np.where(final_surface[sky_index] == CLOUD, depth, np.nan).astype(np.float32)
+        direct_hit = (frame.bounces.reshape(-1)[island_index] == 0)
+        island_point = np.where(direct_hit[:, None], frame.point.reshape(-1, 3)[island_index], np.nan).astype(np.float32)
         return cls(shape=(h, w), final_dir=final_dir, final_kind=kind, final_normal=normal,
                    throughput=throughput.astype(np.float32), water=layers, sky_index=sky_index,
                    sky_dir=np.ascontiguousarray(final_dir[sky_index]), sky_r0=r0, sky_fr=(rows - r0).astype(np.float32),
                    sky_azimuth=az, island_index=island_index, island_g=g0, island_f=(g - g0).astype(np.float32),
                    water_starts=starts, water_index=np.concatenate([w.index for w in layers]) if layers
                    else np.zeros(0, np.intp), water_up=np.ascontiguousarray(w_up), water_mu=w_mu,
-                   water_weight=w_weight, water_sky=w_sky, n=float(n))
+                   water_weight=w_weight, water_sky=w_sky, n=float(n), sky_cloud=sky_cloud,
+                   island_point=island_point)
 
 
 def _water(index, incident, normal, cos_i, before, n) -> WaterLayer:

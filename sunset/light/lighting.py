@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..constants import ATMOSPHERE_TOP, WATER_REFRACTIVE_INDEX
+from ..constants import ATMOSPHERE_TOP, CLOUD_TABLE_DEPTHS, WATER_REFRACTIVE_INDEX
 from ..model.eye import spectrum_to_xyz as _spectrum_to_xyz
 from ..model.sky import (direct_irradiance, irradiance, island_lighting, sky_dome, sky_radiance,
                        slant_columns, spectral_data, sun_radiance)
@@ -149,6 +149,8 @@ class Lighting:
     n: float = WATER_REFRACTIVE_INDEX
     extra_sky: list = field(default_factory=list)
     extra_irradiance: list = field(default_factory=list)
+    cloud_depths: np.ndarray | None = None   # (CLOUD_TABLE_DEPTHS,) depths below the mean cloud level, metres
+    cloud_xyz: np.ndarray | None = None      # (CLOUD_TABLE_DEPTHS, 3) float32 XYZ radiance of a cloud there
 
     # ----------------------------------------------------------------- construction
     @classmethod
@@ -195,6 +197,35 @@ class Lighting:
         return cls(sun_dir=p, delta=float(delta), sun_azimuth=az, sky_table=sky, sky_linear=sky_linear, sun_xyz=sun_xyz,
                    island_direct=island_direct, island_sky=island_sky, water_sun=water_sun, water_sky=water_sky,
                    beam=beam, scale=exposure(p), n=float(n))
+
+    @classmethod
+    def for_scene(cls, scene, hours: float) -> "Lighting":
+        """The light ``hours`` before sunset for a scene: :meth:`for_hour`, with its clouds if it has any."""
+        light = cls.for_hour(scene.sun, hours)
+        if scene.clouds is not None:
+            light.with_clouds(scene.clouds)
+        return light
+
+    def with_clouds(self, clouds) -> "Lighting":
+        """Add a cloud layer's light of this hour, by depth below its mean level (in place; returns self).
+
+        :func:`sunset.model.clouds.cloud_radiance` on
+        :data:`~sunset.constants.CLOUD_TABLE_DEPTHS` depths from the highest top
+        to the deepest bottom, in XYZ: the same light the 8-bit tables give the
+        cloud codes, per ray instead of per code.
+        """
+        from ..model.clouds import cloud_radiance
+
+        d = np.linspace(-clouds.max_top, clouds.max_bottom, CLOUD_TABLE_DEPTHS)
+        self.cloud_depths = d
+        self.cloud_xyz = _spectrum_to_xyz(cloud_radiance(d, self.sun_dir, clouds, self.delta)).astype(np.float32)
+        return self
+
+    def cloud(self, depth) -> np.ndarray:
+        """Radiance XYZ (..., 3) float32 of a cloud at ``depth`` below the mean level (linear in the table)."""
+        d = np.asarray(depth, dtype=np.float64)
+        return np.stack([np.interp(d, self.cloud_depths, self.cloud_xyz[:, c]) for c in range(3)],
+                        axis=-1).astype(np.float32)
 
     # ----------------------------------------------------------------- lookups
     def sky_at(self, rows, cols) -> np.ndarray:

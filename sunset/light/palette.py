@@ -25,7 +25,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .tone import decode_srgb
 
 __all__ = ["median_cut_kmeans", "code_group_palette", "delta_e_2000", "QuantisationResult", "quantisation_test"]
 

@@ -24,7 +24,7 @@ from .lighting import Lighting
 from .shade import shade
 from .tone import display_linear, scene_linear
 
-__all__ = ["MAX_SAMPLES", "check_samples", "supersampled", "trace_geometry", "shade_display", "render_rgb",
+__all__ = ["MAX_SAMPLES", "check_samples", "supersampled", "trace_geometry", "shade_display", "render_rgb", "frame_light",
            "box_filter", "shade_scene_linear"]
 
 #: Most samples per pixel (a 16 × 16 grid).
@@ -81,4 +81,15 @@ def render_rgb(scene, t: float = 0.0, hours: float = 0.35, samples: int = 1, ref
     k = check_samples(samples)
     require_finite("hours", hours)
     geometry = trace_geometry(scene, t, reflections, samples)
-    return shade_display(geometry, Lighting.for_hour(scene.sun, hours), k)
+    return shade_display(geometry, frame_light(scene, t, hours), k)
+
+
+def frame_light(scene, t: float, hours: float) -> Lighting:
+    """The light of one frame: the hour's sky and sun, the scene's clouds, and the ripples of light on its
+    posts at time ``t`` (:func:`sunset.light.ripples.ripple_source`), which depend on the waves' time too."""
+    light = Lighting.for_scene(scene, hours)
+    if scene.posts:
+        from .ripples import ripple_source
+
+        light.extra_irradiance.append(ripple_source(scene, float(t), float(hours), light))
+    return light

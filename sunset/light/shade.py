@@ -5,8 +5,9 @@ its sea bounces) and the water seen at each bounce,
 
     L = τ L_final + Σ_k τ_(k−1) (1 − R_k)/n² L_u(u_k),
 
-L_final the sky (plus the sun's disk where the final ray falls in it) or the
-island the path ends on, and L_u the light scattered up in the sea along the
+L_final the sky (plus the sun's disk where the final ray falls in it), a
+cloud (its light by depth, when the light has clouds) or the island the path
+ends on, and L_u the light scattered up in the sea along the
 reversed refracted ray u_k (:mod:`sunset.light.water`):
 
     L_u(u) = ω E'_sun p(ψ)/(μ'_sun + u_z) + ω E'_sky (1/4π)/(μ̄ + u_z),
@@ -38,13 +39,18 @@ def shade(geometry: Geometry, light: Lighting) -> np.ndarray:
                      math.cos(light.delta), light.sun_xyz)
     for layer in light.extra_sky:
         sky = np.asarray(layer(g.sky_dir, sky), np.float32)
+    if g.sky_cloud is not None and light.cloud_xyz is not None:
+        on = np.isfinite(g.sky_cloud)          # a cloud in front of the sky (and of the sun: its glitter goes out)
+        if np.any(on):
+            sky = np.array(sky, np.float32)
+            sky[on] = light.cloud(g.sky_cloud[on])
     direct, table = light.island_tables()
     isl_normal = g.final_normal[g.island_index]
     isl_part = g.final_kind[g.island_index]
     island = island_pixels(isl_normal, isl_part, g.island_g[:, 0], g.island_g[:, 1], g.island_f[:, 0],
                            g.island_f[:, 1], light.sun_dir, direct, table)
     for source in light.extra_irradiance:
-        island = np.asarray(island + source(None, isl_normal, isl_part), np.float32)
+        island = np.asarray(island + source(g.island_point, isl_normal, isl_part), np.float32)
     out = combine(g.final_dir.shape[0], g.throughput, g.sky_index, sky, g.island_index, island, g.water_starts,
                   g.water_index, g.water_up, g.water_mu, g.water_weight, g.water_sky, light.beam, -light.beam[2],
                   light.water_sun, light.water_sky)
