@@ -1,7 +1,6 @@
 """Figures of the future work, II (sunset/figures/future.py): clouds.png and ripples.png."""
 
 import numpy as np
-import pytest
 from PIL import Image
 
 from sunset.figures import future
