@@ -2,7 +2,7 @@
 
 The colour tables let one tape be exposed at any hour because the codes hold
 only geometry. :class:`Geometry` is the same idea for the RGB back end: from a
-:class:`~sunset.frame.Frame` it keeps, per pixel, everything that does not
+:class:`~sunset.vector.frame.Frame` it keeps, per pixel, everything that does not
 depend on the sun:
 
 * where the path finally goes (the final ray and what it meets: sky or an

@@ -155,7 +155,7 @@ class Lighting:
     # ----------------------------------------------------------------- construction
     @classmethod
     def for_hour(cls, sun, hours: float) -> "Lighting":
-        """The light ``hours`` before sunset for a :class:`~sunset.sun.Sun`."""
+        """The light ``hours`` before sunset for a :class:`~sunset.model.sun.Sun`."""
         require_finite("hours", hours)
         return cls.for_direction(sun.position(float(hours)), sun.delta)
 

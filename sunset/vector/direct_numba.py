@@ -56,7 +56,7 @@ def _assemble(best_u, best_surf, s_all, zeta, sky_code, sea_code, start, surf, d
 
 
 def assemble(best_u, best_surf, s_all, zeta, sky_code: int, sea_code: int, n_islands: int):
-    """The geometry of :func:`sunset.vector.heightfield._assemble` in one pass.
+    """The geometry of :func:`sunset.vector.direct.assemble_geometry` in one pass.
 
     From 1/yp and the winning surface per (scan line, pixel from the bottom):
     ``surf`` (H, W) int8, ``direction``, ``point`` (H, W, 3) float32,
@@ -102,7 +102,7 @@ def _put_unit_normals(flat, fx, fy, one, normal):
 def put_unit_normals(normal, flat, fx, fy) -> None:
     """Write (−f_x, −f_y, 1)/√(f_x² + f_y² + 1) into rows ``flat`` of ``normal`` (…, 3), in place.
 
-    The arithmetic of :func:`sunset.vector.heightfield._unit_normal` in the dtype of ``fx``.
+    The arithmetic of :func:`sunset.model.waves.unit_normal` in the dtype of ``fx``.
     """
     if len(flat) == 0:
         return

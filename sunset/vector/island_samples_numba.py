@@ -35,7 +35,7 @@ def _expand_intervals(up, n, count, last_valid, out):
 
 
 def expand_intervals(up, n, count, last_valid) -> np.ndarray:
-    """The flat island samples of :func:`sunset.vector.heightfield._island_samples_flat` from its probe.
+    """The flat island samples of :func:`sunset.vector.island_samples._island_samples_flat` from its probe.
 
     Row c: each probe interval j cut into ``n[c, j]`` equal parts in u
     (u_j + (u_(j+1) − u_j) q/n), then the row's far end ``up[c, last_valid[c]]``;

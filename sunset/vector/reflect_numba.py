@@ -121,7 +121,7 @@ def _crest_phase(q, r, l, m, omega_t, phase, k, lift, half, psi, cand):
         rz = r[j, 2]
         keep = True
         if rz > 0.0:
-            # the bounding test of sunset.vector.pierce.crest_candidates
+            # the bounding test of sunset.vector.crests.crest_candidates
             ahead = _phase_ahead(rate, ps)
             u0 = -ahead / k
             w = rate / k
@@ -167,8 +167,8 @@ def crest_hits(train, t: float, q, r) -> np.ndarray:
     """Distance along each ray to its crest cylinder, +inf where it clears the crest.
 
     :func:`sunset.vector.pierce.first_entry` of the cylinder of
-    :func:`sunset.vector.pierce.crest_cylinder`, for rays (N, 3), after the bounding
-    test of :func:`sunset.vector.pierce.crest_candidates`. A first pass reduces the
+    :func:`sunset.vector.crests.crest_cylinder`, for rays (N, 3), after the bounding
+    test of :func:`sunset.vector.crests.crest_candidates`. A first pass reduces the
     phase to ψ = θ mod 2π and compresses the candidates; NumPy takes cos ψ on
     them (the reference's cosine); a second pass does the rest.
     """
