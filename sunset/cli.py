@@ -149,7 +149,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = add("figures", "Write the paper's figures, diagnostics and the film (what `make figures` runs).")
     p.add_argument("--out", default="figures", help="output folder (default: figures)")
-    p.add_argument("--only", help="comma-separated figure names: 2,4,5,6,7,diagnostic,reflections,film")
+    p.add_argument("--only", help="comma-separated figure names: 1,2,3,4,5,6,7,diagnostic,reflections,film")
     p.add_argument("--size", type=_size, help="size of Figures 4–7 and the film, WxH (default 1020x1023)")
     p.add_argument("--seed", type=_seed, default=0, help="dither seed (default 0)")
     p.add_argument("--frames", type=_count, default=32, help="frames per wave cycle in the film (default 32)")

@@ -57,13 +57,16 @@ PART_HILL = 3
 #: Islands: green hill, brown cliff, tan beach (each a full turn of the
 #: sun-plane angle ψ, see codes.rho_hat); sky by the final ray's z component;
 #: the sun's track (|W·R| < sin δ) and the band beside it (sin δ <= |W·R| < sin 3δ),
-#: both by the reflected ray's elevation.
+#: both by the reflected ray's elevation. Track and halo get the same number of
+#: codes, so that both resolve elevation equally finely: the halo (rays beside
+#: the sun, not above or below it) then lights the same band of elevations as
+#: the track, and the still-water reflection is one patch (book, chapter 9).
 CODES_HILL = 40
 CODES_CLIFF = 40
 CODES_BEACH = 24
 CODES_SKY = 56
-CODES_TRACK = 64
-CODES_HALO = 32
+CODES_TRACK = 48
+CODES_HALO = 48
 
 #: The third code range spans sin δ <= |W·R| < sin(HALO_FACTOR·δ) (the paper: 3δ).
 HALO_FACTOR = 3.0

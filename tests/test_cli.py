@@ -76,7 +76,7 @@ def test_bad_scene_files(capsys, tmp_path, scene_file, mutate, words):
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["figures", "--only", "3"], ["unknown figure", "'3'"]),
+    (["figures", "--only", "8"], ["unknown figure", "'8'"]),
     (["render", "carlas-island", "--size", "0x10", "-o", "x.png"], ["size"]),
     (["render", "carlas-island", "--size", "-4x10", "-o", "x.png"], ["size"]),
     (["render", "carlas-island", "--time", "nan", "-o", "x.png"], ["--time", "finite"]),

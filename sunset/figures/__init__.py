@@ -13,7 +13,9 @@ from ..errors import SunsetError
 
 #: name -> (file written into the output folder, one-line description)
 FIGURES: dict[str, tuple[str, str]] = {
+    "1": ("fig1.png", "Figure 1: the sun's great circle C on the unit sphere, U, V, W = U × V and P(θ)"),
     "2": ("fig2.png", "Figure 2: Stokes' approximations to the wave form, and the exact wave"),
+    "3": ("fig3.png", "Figure 3: perspective projection along one vertical scan line"),
     "4": ("fig4.png", "Figure 4: islands near sunset in still water"),
     "5": ("fig5.png", "Figure 5: one reflection from waves (|R_z|)"),
     "6": ("fig6.png", "Figure 6: two reflections from waves"),
@@ -45,9 +47,15 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
                 progress: bool = True) -> list[Path]:
     """Make one figure of ``scene`` (at its camera's size) into ``out``; returns the files written."""
     out = Path(out)
+    if name == "1":
+        from .fig1 import figure1
+        return [figure1(out / "fig1.png", sun=scene.sun)]
     if name == "2":
         from .fig2 import figure2
         return [figure2(out / "fig2.png")]
+    if name == "3":
+        from .fig3 import figure3
+        return [figure3(out / "fig3.png", scene=scene)]
     if name in ("4", "5", "6", "7"):
         from .paper import paper_figure
         return [paper_figure(name, out, scene, seed=seed)]

@@ -22,8 +22,8 @@ import math
 
 import numpy as np
 
-from ..constants import HALO_FACTOR, HALO_STRENGTH
-from ..errors import require_finite
+from ..constants import HALO_STRENGTH
+from ..errors import SunsetError, require_finite
 from ..model.eye import exposure_key, film_response, srgb_encode, to_uint8
 from ..model.sky import (direct_irradiance, elevation, irradiance, island_normals, sky_dome, sky_radiance,
                          spectral_data, sun_radiance)
@@ -32,7 +32,7 @@ from ..model.sun import Sun
 from ..tape.codes import (CLOUDY_CODE_MAP, CODE_MAP, cloud_code_depths, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
                           track_elevation_max)
 
-__all__ = ["tables", "tables_linear", "sun_colour"]
+__all__ = ["tables", "tables_linear", "sun_colour", "glitter_weights"]
 
 #: Sub-samples of each island code's dither interval.
 _N_SUBCODE = 16
@@ -51,6 +51,54 @@ def _axis_direction(elevation: np.ndarray) -> np.ndarray:
 def _tent(centres: np.ndarray, at: float, radius: float, width: float) -> np.ndarray:
     """1 within radius − width/2 of ``at``, falling linearly to 0 at radius + width/2."""
     return np.clip((radius + 0.5 * width - np.abs(centres - at)) / width, 0.0, 1.0)
+
+
+def glitter_weights(sun: Sun, hours: float, halo_radius: float | None = None) -> np.ndarray:
+    """How far each code's table entry is turned from sky colour to sun colour, shape (256,).
+
+    A track code stands for a reflected ray within δ of the sun's plane at the
+    elevation the code is centred on; its entry is the sun's colour (weight 1)
+    while the sun stands within max(δ, one code's step) of that elevation,
+    falling linearly to sky colour over one code's step either side, so that
+    at least one entry is sun colour at any time and its neighbours are
+    intermediate (the paper, *Color Specification for the Sky*). A halo code
+    stands for a ray that deviates *horizontally* from the sun's position, by
+    δ to 3δ: its entry goes part of the way (``HALO_STRENGTH``) over the same
+    elevations as the track's, so that the glitter widens sideways but not
+    lengthwise. (Lighting the halo over 3δ of elevation, as the tables did
+    before, made the halo three times taller than the track: on still water,
+    two long side streaks joined by a short bright middle, the "N" that
+    Figure 4 showed; book, chapter 9.) Every other code gets 0.
+
+    Parameters
+    ----------
+    sun : Sun
+    hours : float
+        Hours before sunset.
+    halo_radius : float, optional
+        The halo's reach in elevation, radians; by default the track's,
+        max(δ, one track code's step). Only for showing what another reach
+        does (the book passes 3δ to redraw the old "N").
+    """
+    require_finite("hours", hours)
+    cmap = CODE_MAP
+    e_sun = elevation(sun.position(hours))
+    e_max = track_elevation_max(sun)
+    w_track = e_max / cmap.track.size           # elevation step of one track code
+    w_halo = e_max / cmap.halo.size
+    radius = max(sun.delta, w_track)            # the sun's reach in elevation, as the track sees it
+    if halo_radius is None:
+        halo_radius = max(radius, 0.5 * w_halo)
+    else:
+        require_finite("halo_radius", halo_radius)
+        if halo_radius <= 0:
+            raise SunsetError(f"halo_radius must be positive, got {halo_radius!r}")
+    out = np.zeros(256)
+    out[cmap.track.start:cmap.track.stop] = _tent(track_code_elevations(cmap.track.size, sun), e_sun, radius,
+                                                  w_track)
+    out[cmap.halo.start:cmap.halo.stop] = HALO_STRENGTH * _tent(track_code_elevations(cmap.halo.size, sun), e_sun,
+                                                                float(halo_radius), w_halo)
+    return out
 
 
 def _island_factors(theta: float, size: int) -> np.ndarray:
@@ -89,10 +137,9 @@ def _tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> tupl
 
     delta = sun.delta
     sun_lin = film_response(sun_radiance(e_sun, delta), key)
-    w_track = track_elevation_max(sun) / cmap.track.size       # elevation step of one code
-    w_halo = track_elevation_max(sun) / cmap.halo.size
-    a = _tent(e_track, e_sun, max(delta, w_track), w_track)[:, None]
-    b = HALO_STRENGTH * _tent(e_halo, e_sun, max(HALO_FACTOR * delta, w_halo), w_halo)[:, None]
+    weights = glitter_weights(sun, hours)
+    a = weights[cmap.track.start:cmap.track.stop, None]
+    b = weights[cmap.halo.start:cmap.halo.stop, None]
     out[cmap.sky.start:cmap.sky.stop] = sky_lin
     out[cmap.track.start:cmap.track.stop] = (1 - a) * track_sky + a * sun_lin
     out[cmap.halo.start:cmap.halo.stop] = (1 - b) * halo_sky + b * sun_lin
