@@ -169,8 +169,9 @@ FILM_TO_HOURS = -0.25
 NEAR_PLANE_FRACTION = 0.25
 
 #: Samples (scan lines × samples) the vectorized scan line holds at once:
-#: the memory bound of sunset.vector.heightfield (about 4 MB per float32 array).
-SCANLINE_CHUNK_ELEMENTS = 1 << 20
+#: the memory bound of sunset.vector.heightfield (about 1 MB per float32 array, so that
+#: a strip of scan lines stays in the cache while its profile is built and scanned).
+SCANLINE_CHUNK_ELEMENTS = 1 << 18
 
 #: Most refinement steps of the island lattice per sea sample (σ/m).
 ISLAND_MAX_REFINEMENT = 4096

@@ -23,6 +23,17 @@ and are loaded only when first used.
 The compiled kernels are on when Numba can be imported and the environment
 variable ``SUNSET_COMPILED`` is not ``0``; :func:`use_compiled` switches them
 for a block of code (the tests run both paths).
+
+Both cores inside one frame
+---------------------------
+The stages of a frame cut their work into strips (columns for the scan
+lines, rows for everything after them) whose pixels do not depend on one
+another, and :func:`run_strips` hands the strips to a small pool of threads.
+The compiled kernels release the GIL and NumPy's whole-array operations do
+too, so the threads run on all cores; every pixel is computed by the same
+operations whichever strip it falls in, so the frame is byte-identical for
+any number of threads (tests). The number of threads is ``$SUNSET_THREADS``,
+else the CPU count; :func:`use_threads` sets it for a block of code.
 """
 
 from __future__ import annotations
@@ -31,18 +42,26 @@ import contextlib
 import functools
 import importlib
 import os
+import threading
 
 try:  # pragma: no cover - exercised by whichever environment runs the tests
     import numba as _numba
 except ImportError:  # pragma: no cover
     _numba = None
 
-__all__ = ["AVAILABLE", "enabled", "use_compiled", "jit", "twin"]
+__all__ = ["AVAILABLE", "enabled", "use_compiled", "jit", "twin", "threads", "use_threads", "strips", "run_strips"]
 
 #: True when Numba is importable (the compiled kernels exist).
 AVAILABLE = _numba is not None
 
-_state = {"on": AVAILABLE and os.environ.get("SUNSET_COMPILED", "1") != "0"}
+def _default_threads() -> int:
+    env = os.environ.get("SUNSET_THREADS", "").strip()
+    return max(1, int(env)) if env.isdigit() else max(1, os.cpu_count() or 1)
+
+
+_state = {"on": AVAILABLE and os.environ.get("SUNSET_COMPILED", "1") != "0", "threads": _default_threads(),
+          "pool": None, "pool_size": 0}
+_pool_lock = threading.Lock()
 
 
 def enabled() -> bool:
@@ -94,3 +113,72 @@ def twin(module: str):
         kernel.compiled = compiled
         return kernel
     return decorate
+
+
+# --------------------------------------------------------------------------- strips on threads
+def threads() -> int:
+    """How many threads a frame's stages use now."""
+    return _state["threads"]
+
+
+@contextlib.contextmanager
+def use_threads(n: int):
+    """Run the frame's stages on ``n`` threads (1: in the calling thread alone) inside a ``with`` block."""
+    old = _state["threads"]
+    _state["threads"] = max(1, int(n))
+    try:
+        yield _state["threads"]
+    finally:
+        _state["threads"] = old
+
+
+def strips(n_items: int, max_items: int | None = None, per_thread: int = 4) -> list[tuple[int, int]]:
+    """Cut ``range(n_items)`` into contiguous (start, stop) strips for :func:`run_strips`.
+
+    About ``per_thread`` strips per thread (so that a slow strip does not
+    leave a core idle), none longer than ``max_items``; one strip when one
+    thread runs.
+    """
+    if n_items <= 0:
+        return []
+    count = 1 if threads() == 1 else threads() * per_thread
+    if max_items:
+        count = max(count, -(-n_items // max(1, int(max_items))))
+    count = min(count, n_items)
+    edges = [n_items * i // count for i in range(count + 1)]
+    return [(a, b) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+
+
+def _pool():
+    from concurrent.futures import ThreadPoolExecutor
+
+    with _pool_lock:
+        if _state["pool"] is None or _state["pool_size"] != _state["threads"]:
+            if _state["pool"] is not None:
+                _state["pool"].shutdown(wait=True)
+            _state["pool"] = ThreadPoolExecutor(max_workers=_state["threads"], thread_name_prefix="sunset")
+            _state["pool_size"] = _state["threads"]
+        return _state["pool"]
+
+
+def _forget_pool() -> None:  # a forked child has none of its parent's threads
+    _state["pool"] = None
+    _state["pool_size"] = 0
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
+
+
+def run_strips(fn, parts) -> list:
+    """``[fn(start, stop) for start, stop in parts]``, the strips shared out to the threads; results in order.
+
+    With one thread, or one strip, or when called from one of the pool's own
+    threads, the strips run here, one after the other.
+    """
+    parts = list(parts)
+    if threads() == 1 or len(parts) <= 1 or threading.current_thread().name.startswith("sunset"):
+        return [fn(a, b) for a, b in parts]
+    pool = _pool()
+    futures = [pool.submit(fn, a, b) for a, b in parts]
+    return [f.result() for f in futures]

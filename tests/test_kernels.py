@@ -230,3 +230,71 @@ def test_codes_of_random_final_fields_are_the_same_on_both_paths():
     for flag in (False, True):
         with kernels.use_compiled(flag), pytest.raises(Exception, match="final_part"):
             encode(scene, frame, seed=9)
+
+
+# -- both cores inside one frame: strips on threads (kernels.run_strips) ---------------------------------
+
+def test_strips_cut_the_range_into_contiguous_pieces():
+    for n_threads in (1, 2, 3):
+        with kernels.use_threads(n_threads):
+            for n in (0, 1, 5, 97, 1024):
+                for max_items in (None, 1, 7, 300):
+                    parts = kernels.strips(n, max_items)
+                    covered = [i for a, b in parts for i in range(a, b)]
+                    assert covered == list(range(n))
+                    if max_items:
+                        assert all(b - a <= max_items for a, b in parts)
+                    if n_threads == 1 and not max_items and n:
+                        assert parts == [(0, n)]
+            assert kernels.run_strips(lambda a, b: (a, b), kernels.strips(50)) == kernels.strips(50)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_frames_codes_and_exposures_do_not_depend_on_the_threads(compiled):
+    from sunset.recorder.dicomed import expose
+
+    scenes = small_scenes()
+    scenes["big"] = Scene.default().with_size(260, 230)
+    for name, scene in scenes.items():
+        results = []
+        for n_threads in (1, 2, 3):
+            with kernels.use_compiled(compiled), kernels.use_threads(n_threads):
+                frame = render(scene, 1.1, 2)
+                codes = encode(scene, frame, seed=9)
+                results.append((frame, codes, expose(scene, codes, 0.3)))
+        for frame, codes, rgb in results[1:]:
+            frames_equal(frame, results[0][0])
+            np.testing.assert_array_equal(codes, results[0][1])
+            np.testing.assert_array_equal(rgb, results[0][2])
+
+
+def test_the_dither_of_a_strip_is_its_piece_of_the_frames_stream():
+    from sunset.tape.codes import dither
+
+    H, W = 23, 31
+    rng = np.random.default_rng(77)
+    u, v = rng.random((H, W)), rng.random((H, W))
+    np.testing.assert_array_equal(dither(77, 5 * W, (4, W)), u[5:9])
+    np.testing.assert_array_equal(dither(77, (H + 11) * W, (12, W)), v[11:23])
+    np.testing.assert_array_equal(dither(77, 0, (H, W)), u)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_an_island_pass_computed_once_serves_every_time(compiled):
+    from sunset.errors import SunsetError
+
+    scene = Scene.default().with_size(120, 100)
+    with kernels.use_compiled(compiled):
+        islands = direct.island_pass(scene)
+        before = (islands.u.copy(), islands.code.copy())
+        for t in (0.0, 0.9, 2.3):
+            frames_equal(render(scene, t, 2, islands=islands), render(scene, t, 2))
+        # the pass is not changed by the frames that use it
+        np.testing.assert_array_equal(islands.u, before[0])
+        np.testing.assert_array_equal(islands.code, before[1])
+        assert (islands.code > 0).any() and (islands.code == SKY).any()
+        # another camera or other islands: refused
+        with pytest.raises(SunsetError, match="another camera"):
+            render(scene.with_size(121, 100), 0.0, 2, islands=islands)
+        with pytest.raises(SunsetError, match="another camera"):
+            render(small_scenes()["bare"].with_size(120, 100), 0.0, 2, islands=islands)

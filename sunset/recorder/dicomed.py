@@ -26,6 +26,7 @@ import numpy as np
 
 from ..constants import SUN_SUPERSAMPLE
 from ..errors import SunsetError, require_finite
+from ..kernels import run_strips, strips
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
 from ..model.sun import Sun
 from ..tape.codes import code_map
@@ -138,8 +139,9 @@ def expose(scene, codes, hours: float) -> np.ndarray:
     clouds = scene.clouds
     tab = tables(scene.sun, hours, clouds)
     rgb = np.empty(codes.shape + (3,), np.uint8)
-    for k, _colour in enumerate(PASSES):        # one exposure through each filter
-        rgb[..., k] = tab[k][codes]
+    # the three passes, one through each filter (PASSES), as one lookup of the code's (red, green, blue)
+    lut = np.ascontiguousarray(tab.T)             # (256, 3)
+    run_strips(lambda r0, r1: np.take(lut, codes[r0:r1], axis=0, out=rgb[r0:r1]), strips(codes.shape[0]))
     rows, cols, cov = sun_coverage(cam, scene.sun, hours)
     if cov.size:
         weight = np.where(code_map(scene).reaches_sky(codes[rows, cols]), cov, 0.0)[..., None]

@@ -64,7 +64,7 @@ import numpy as np
 from ..constants import (CLOUD, POST, CLOUDY_CODES_BEACH, CLOUDY_CODES_CLIFF, CLOUDY_CODES_CLOUD, CLOUDY_CODES_HILL,
                          CLOUDY_CODES_SKY, CODES_BEACH, CODES_CLIFF, CODES_HALO, CODES_HILL, CODES_SKY, CODES_TRACK, HALO_FACTOR,
                         N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY, TRACK_DITHER)
-from ..kernels import twin
+from ..kernels import run_strips, strips, twin
 from ..errors import SunsetError
 from ..vector.frame import Frame
 from ..model.sun import Sun
@@ -72,7 +72,7 @@ from ..model.sun import Sun
 __all__ = [
     "CodeRange", "CodeMap", "CODE_MAP", "CLOUDY_CODE_MAP", "code_map", "cloud_index", "cloud_code_depths", "rho", "rho_hat", "sun_plane_angle", "island_offsets", "sky_index",
     "track_elevation_max", "elevation_index", "island_code_rho", "sky_code_z", "track_code_elevations",
-    "encode",
+    "encode", "dither",
 ]
 
 
@@ -363,23 +363,43 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
     cmap = code_map(scene)
     shape = frame.shape
 
-    rng = np.random.default_rng(seed)
-    u = rng.random(shape)                      # added before every truncation
-    v = rng.random(shape)                      # added to |W·R| before thresholding
-
     codes = np.empty(shape, np.uint8)
-    encode_pixels(codes, frame, u, v, sun, cmap)
-    post = np.asarray(frame.final_surface) == POST
-    if np.any(post):            # posts in the water: wood, coded as the brown cliff by ρ̂(N)
-        codes[post] = cmap.cliff.start + island_offsets(rho_hat(_rows(frame.final_normal, post), sun),
-                                                        cmap.cliff.size, u[post])
-    if cmap.cloud is not None:  # clouds by depth below the mean level, seen directly or by reflection
-        cloud = np.asarray(frame.final_surface) == CLOUD
-        if np.any(cloud):
-            clouds = scene.clouds
-            codes[cloud] = cmap.cloud.start + cloud_index(frame.cloud_depth[cloud], cmap.cloud.size,
-                                                          clouds.max_top, clouds.max_bottom, u[cloud])
+    H, W = shape
+
+    def rows(r0: int, r1: int) -> None:
+        # u is added before every truncation, v to |W·R| before thresholding
+        u = dither(seed, r0 * W, (r1 - r0, W))
+        v = dither(seed, (H + r0) * W, (r1 - r0, W))
+        part = frame.rows(r0, r1)
+        out = codes[r0:r1]
+        encode_pixels(out, part, u, v, sun, cmap)
+        post = np.asarray(part.final_surface) == POST
+        if np.any(post):            # posts in the water: wood, coded as the brown cliff by ρ̂(N)
+            out[post] = cmap.cliff.start + island_offsets(rho_hat(_rows(part.final_normal, post), sun),
+                                                          cmap.cliff.size, u[post])
+        if cmap.cloud is not None:  # clouds by depth below the mean level, seen directly or by reflection
+            cloud = np.asarray(part.final_surface) == CLOUD
+            if np.any(cloud):
+                clouds = scene.clouds
+                out[cloud] = cmap.cloud.start + cloud_index(part.cloud_depth[cloud], cmap.cloud.size,
+                                                            clouds.max_top, clouds.max_bottom, u[cloud])
+
+    run_strips(rows, strips(H))
     return codes
+
+
+def dither(seed: int, skip: int, shape) -> np.ndarray:
+    """The dither numbers ``skip`` … ``skip + prod(shape) − 1`` of the stream ``np.random.default_rng(seed)``.
+
+    ``np.random.default_rng(seed).random(n)`` is the stream's first n
+    numbers, one 64-bit step each, so a strip of rows can start its own
+    generator where its numbers begin (PCG64's jump ahead) and the frame's
+    dither is the same whichever strips it is cut into: the first H·W
+    numbers are the frame's u, the next H·W its v, row by row.
+    """
+    bits = np.random.PCG64(seed)
+    bits.advance(int(skip))
+    return np.random.Generator(bits).random(tuple(shape))
 
 
 @twin("sunset.tape.codes_numba")

@@ -11,21 +11,37 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import require_int_range
+from ..kernels import use_threads
 from ..model.scene import Scene
+from ..vector.direct import island_pass
 from ..vector.render import render
 from .codes import encode
 
 __all__ = ["code_frame", "code_frames", "frame_workers"]
 
 
-def code_frame(scene: Scene, t: float, reflections: int = 2, seed: int = 0):
-    """The vector stage for one frame: :func:`render` then :func:`sunset.tape.codes.encode` (uint8 (H, W))."""
+def code_frame(scene: Scene, t: float, reflections: int = 2, seed: int = 0, islands=None):
+    """The vector stage for one frame: :func:`render` then :func:`sunset.tape.codes.encode` (uint8 (H, W)).
 
-    return encode(scene, render(scene, float(t), reflections), seed=seed)
+    ``islands``: the scene's island pass (:func:`sunset.vector.direct.island_pass`), when it is shared by
+    many frames.
+    """
+
+    return encode(scene, render(scene, float(t), reflections, islands=islands), seed=seed)
+
+
+#: What a worker process of :func:`code_frames` keeps for all its frames: the islands' pass.
+_WORKER: dict = {}
+
+
+def _start_worker(islands) -> None:
+    _WORKER["islands"] = islands
 
 
 def _code_frame_task(args):
-    return code_frame(*args)
+    # the frames run side by side in the processes, one thread each
+    with use_threads(1):
+        return code_frame(*args, islands=_WORKER.get("islands"))
 
 
 def frame_workers(workers: int | None = None, frames: int = 1) -> int:
@@ -54,6 +70,10 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     frame is rendered here first, so that the workers (forked where the
     platform allows) inherit compiled kernels instead of loading them each.
 
+    The islands do not move: their share of the direct rays
+    (:func:`sunset.vector.direct.island_pass`) is computed once, here, and
+    handed to every worker when it starts, instead of once per frame.
+
     Parameters
     ----------
     on_frame : callable, optional
@@ -79,18 +99,20 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
 
     if not times:
         return out
-    put(0, code_frame(scene, times[0], reflections, seed))
+    islands = island_pass(scene)
+    put(0, code_frame(scene, times[0], reflections, seed, islands=islands))
     rest = [(scene, t, reflections, seed) for t in times[1:]]
     if n <= 1 or not rest:
         for i, args in enumerate(rest, start=1):
-            put(i, code_frame(*args))
+            put(i, code_frame(*args, islands=islands))
         return out
     methods = multiprocessing.get_all_start_methods()
     # fork is cheapest (the children share the loaded kernels); Python 3.12+ warns about forking a
     # process that has threads (BLAS has), so there the forkserver starts the workers
     method = "fork" if "fork" in methods and sys.version_info < (3, 12) else (
         "forkserver" if "forkserver" in methods else "spawn")
-    with ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method)) as pool:
+    with ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method),
+                             initializer=_start_worker, initargs=(islands,)) as pool:
         for i, codes in enumerate(pool.map(_code_frame_task, rest), start=1):
             put(i, codes)
     return out

@@ -12,23 +12,99 @@ fields: ray directions, hit points, distances and unit normals
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..constants import ISLAND_SAMPLE_BUDGET, PART_NONE, SCANLINE_CHUNK_ELEMENTS, SEA, SKY
-from ..errors import require_finite
-from ..kernels import twin
+from ..errors import SunsetError, require_finite
+from ..kernels import run_strips, strips, twin
 from ..model.waves import unit_normal
 from .frame import Frame
 from .heightfield import sampling, sea_gradient_on_scanlines, sea_profile, sea_scan
 from .island_samples import island_scan, probe_refinement
 
-__all__ = ["trace_direct", "assemble_geometry", "put_unit_normals"]
+__all__ = ["trace_direct", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals"]
 
 _F32 = np.float32
 
 
-def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: dict | None = None) -> Frame:
+@dataclass(frozen=True)
+class IslandPass:
+    """The islands' share of the direct rays: the same at every time, so a wave cycle computes it once.
+
+    The islands do not move, and where they are sampled depends only on the
+    camera, the islands and the sea's largest elevation d (their bounding
+    ellipses), never on t. This is their per-scan-line depth buffer, the
+    nearest island (largest u = 1/y) at every pixel; :func:`trace_direct`
+    merges the sea into a copy of it. Made by :func:`island_pass`.
+
+    Attributes
+    ----------
+    key : tuple
+        What the pass depends on (:func:`island_key`); a scene with another key is refused.
+    u : ndarray (W, H) float64
+        1/yp of the nearest island per (scan line, pixel from the bottom); 0: none.
+    code : ndarray (W, H) int8
+        Its 1-based number, or SKY.
+    samples : int
+        The islands' samples over all scan lines.
+    probe : list
+        Each island's probe refinement (None: out of view).
+    """
+
+    key: tuple
+    u: np.ndarray
+    code: np.ndarray
+    samples: int
+    probe: list
+
+
+def island_key(scene, refine_islands: bool = True) -> tuple:
+    """What the islands' pass depends on: the camera, the islands, the sea's largest elevation, the refinement."""
+    return (scene.camera, scene.islands, float(scene.sea.max_elevation), bool(refine_islands))
+
+
+def island_pass(scene, refine_islands: bool = True) -> IslandPass:
+    """The islands' depth buffer of every scan line (:class:`IslandPass`), computed on all threads.
+
+    The scan lines are cut into strips (:func:`sunset.kernels.run_strips`);
+    each island is sampled, scan-converted and merged, nearest first wins
+    (:func:`sunset.vector.island_samples.island_scan`), in island order.
+    """
+    cam = scene.camera
+    W, H = cam.width, cam.height
+    d = scene.sea.max_elevation
+    dz = cam.pixel_pitch[1]
+    zeta0 = cam.zy_min + 0.5 * dz
+    samp = sampling(cam, d)
+    s_all = cam.s_centres()
+    u = np.zeros((W, H))                 # 1/yp of the nearest island, 0: none
+    code = np.full((W, H), SKY, dtype=np.int8)
+    probes = [probe_refinement(island, s_all, samp, d) for island in scene.islands]
+    budget = ISLAND_SAMPLE_BUDGET * max(samp.n, H)
+
+    def work(c0: int, c1: int) -> int:
+        n = 0
+        for k, (island, m0) in enumerate(zip(scene.islands, probes), start=1):
+            if m0 is not None:
+                n += island_scan(island, s_all[c0:c1], samp, d, cam.eye_height, m0, zeta0, dz, H, cam.sigma,
+                                 budget, refine_islands, u[c0:c1], code[c0:c1], k)
+        return n
+
+    samples = 0
+    if any(m0 is not None for m0 in probes):
+        samples = sum(run_strips(work, strips(W, _chunk_columns(samp, W))))
+    return IslandPass(key=island_key(scene, refine_islands), u=u, code=code, samples=samples, probe=probes)
+
+
+def _chunk_columns(samp, W: int) -> int:
+    """Scan lines per strip: SCANLINE_CHUNK_ELEMENTS samples at most (the memory bound)."""
+    return max(1, min(W, SCANLINE_CHUNK_ELEMENTS // max(samp.n, 1)))
+
+
+def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: dict | None = None,
+                 islands: IslandPass | None = None) -> Frame:
     """Trace the direct ray through every pixel centre: sea, islands or sky.
 
     Parameters
@@ -47,17 +123,27 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
         and ``seconds``: wall-clock time spent on ``sea`` (profile and scan
         conversion), ``islands`` (sampling, profile, scan conversion, depth
         test) and ``assemble`` (points, distances, normals), for the benchmark.
+    islands : IslandPass, optional
+        The islands' pass of this scene (:func:`island_pass`), computed once
+        for many frames (a wave cycle); by default it is computed here.
 
     Returns
     -------
     Frame
         With the direct fields filled (direction, surface, part, distance,
         point, normal); rows top to bottom.
+
+    Notes
+    -----
+    The islands go into the depth buffer first and the sea second, the sea
+    winning ties: the same nearest surface, and the same first island among
+    equals, as merging the sea first and each island only where it is
+    strictly nearer.
     """
     require_finite("t", t)
     t = float(t)
     cam = scene.camera
-    H, W, h = cam.height, cam.width, cam.eye_height
+    W, H, h = cam.width, cam.height, cam.eye_height
     d = scene.sea.max_elevation
     dz = cam.pixel_pitch[1]
     zeta0 = cam.zy_min + 0.5 * dz
@@ -65,86 +151,88 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     s_all = cam.s_centres()
     zeta = zeta0 + dz * np.arange(H, dtype=np.float64)  # bottom up
     u_sea_lattice = samp.u()
-
-    best_u = np.zeros((W, H))                 # 1/yp of the nearest surface, 0: none
-    best_surf = np.full((W, H), SKY, dtype=np.int8)
-    stats = {"sea_samples": samp.n, "island_samples": 0, "probe": [], "tail_pixels": 0}
     seconds = {"sea": 0.0, "islands": 0.0, "assemble": 0.0}
     clock = time.perf_counter
     tick = clock()
-    # the islands' probe refinements, once for all scan lines
-    probes = [probe_refinement(island, s_all, samp, d) for island in scene.islands]
-    budget = ISLAND_SAMPLE_BUDGET * max(samp.n, H)
-    stats["probe"] = probes
+    if islands is None:
+        islands = island_pass(scene, refine_islands)
+        best_u, best_surf = islands.u, islands.code      # ours alone: merge the sea into them
+    else:
+        if islands.key != island_key(scene, refine_islands):
+            raise SunsetError("islands: this island pass was computed for another camera, islands or sea height")
+        best_u, best_surf = islands.u.copy(), islands.code.copy()
     tock = clock()
-    seconds["islands"] += tock - tick
+    seconds["islands"] = tock - tick
     tick = tock
 
-    n_per = max(samp.n, 1)
-    chunk = max(1, min(W, SCANLINE_CHUNK_ELEMENTS // n_per))
-    for c0 in range(0, W, chunk):
-        cols = slice(c0, min(W, c0 + chunk))
-        s = s_all[cols]
-        # the sea: its profile on the lattice, scan-converted, and the far tail
-        if samp.n:
-            g = sea_profile(scene.sea, s, u_sea_lattice, h, t)
-            stats["tail_pixels"] += sea_scan(u_sea_lattice, g, zeta0, dz, H, best_u[cols], best_surf[cols])
-            del g
-        tock = clock()
-        seconds["sea"] += tock - tick
-        tick = tock
-        # the islands: per-scan-line depth buffer, the nearest (largest u) wins
-        for k, (island, m0) in enumerate(zip(scene.islands, probes), start=1):
-            if m0 is not None:
-                stats["island_samples"] += island_scan(island, s, samp, d, h, m0, zeta0, dz, H, cam.sigma, budget,
-                                                       refine_islands, best_u[cols], best_surf[cols], k)
-        tock = clock()
-        seconds["islands"] += tock - tick
-        tick = tock
+    def sea(c0: int, c1: int) -> int:
+        # the sea: its profile on the lattice, scan-converted, the far tail, merged (ties to the sea)
+        g = sea_profile(scene.sea, s_all[c0:c1], u_sea_lattice, h, t)
+        return sea_scan(u_sea_lattice, g, zeta0, dz, H, best_u[c0:c1], best_surf[c0:c1])
+
+    tail = sum(run_strips(sea, strips(W, _chunk_columns(samp, W)))) if samp.n else 0
+    tock = clock()
+    seconds["sea"] = tock - tick
+    tick = tock
     frame = _assemble(scene, t, best_u, best_surf, s_all, zeta)
     seconds["assemble"] = clock() - tick
     if info is not None:
-        info.update(stats, seconds=seconds)
+        info.update({"sea_samples": samp.n, "island_samples": islands.samples, "probe": islands.probe,
+                     "tail_pixels": tail}, seconds=seconds)
     return frame
 
 
 def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:
-    """Hit points, distances, normals and parts from 1/yp and the winning surface.
+    """Hit points, distances, normals and parts from 1/yp and the winning surface, strip by strip of rows.
 
     ``best_u`` and ``best_surf`` are (scan line, pixel from the bottom); the
     frame's arrays are (row from the top, column). The geometry comes from
     :func:`assemble_geometry`; the normals from the gradients on the
     compressed subsets of sea and island pixels.
     """
-    surf, direction, point, distance, normal, hits = assemble_geometry(best_u, best_surf, s_all, zeta,
-                                                                       len(scene.islands))
-    part = np.full(surf.shape, PART_NONE, dtype=np.int8)
-    # the sea: the gradient in the b_j, c_j form, on the sea pixels only
-    idx, s_hit, y_hit = hits[0]
-    if len(idx):
-        fx, fy = sea_gradient_on_scanlines(scene.sea, s_hit, y_hit, t)
-        put_unit_normals(normal, idx, fx, fy)
-    for k, island in enumerate(scene.islands, start=1):
-        idx, s_hit, yk = hits[k]
-        if not len(idx):
-            continue
-        _, prt, gx, gy = island.surface((s_hit * yk).astype(_F32), yk.astype(_F32))
-        part.reshape(-1)[idx] = prt
-        normal.reshape(-1, 3)[idx] = unit_normal(gx.astype(_F32), gy.astype(_F32))
-    return Frame(t=t, reflections=0, direction=direction, surface=surf, part=part, distance=distance,
-                 point=point, normal=normal)
+    W, H = best_u.shape
+    frame = Frame(t=t, reflections=0, direction=np.empty((H, W, 3), _F32), surface=np.empty((H, W), np.int8),
+                  part=np.empty((H, W), np.int8), distance=np.empty((H, W), _F32), point=np.empty((H, W, 3), _F32),
+                  normal=np.empty((H, W, 3), _F32))
+
+    def rows(r0: int, r1: int) -> None:
+        k0, k1 = H - r1, H - r0      # the rows' pixels, counted from the bottom
+        out = (frame.surface[r0:r1], frame.direction[r0:r1], frame.point[r0:r1], frame.distance[r0:r1],
+               frame.normal[r0:r1])
+        hits = assemble_geometry(best_u[:, k0:k1], best_surf[:, k0:k1], s_all, zeta[k0:k1], len(scene.islands), out)
+        normal = frame.normal[r0:r1]
+        part = frame.part[r0:r1]
+        part.fill(PART_NONE)
+        # the sea: the gradient in the b_j, c_j form, on the sea pixels only
+        idx, s_hit, y_hit = hits[0]
+        if len(idx):
+            fx, fy = sea_gradient_on_scanlines(scene.sea, s_hit, y_hit, t)
+            put_unit_normals(normal, idx, fx, fy)
+        for k, island in enumerate(scene.islands, start=1):
+            idx, s_hit, yk = hits[k]
+            if not len(idx):
+                continue
+            _, prt, gx, gy = island.surface((s_hit * yk).astype(_F32), yk.astype(_F32))
+            part.reshape(-1)[idx] = prt
+            normal.reshape(-1, 3)[idx] = unit_normal(gx.astype(_F32), gy.astype(_F32))
+
+    run_strips(rows, strips(H))
+    return frame
 
 
 @twin("sunset.vector.direct_numba")
-def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int):
+def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int, out):
     """The per-pixel geometry from the depth buffer, as whole-array operations.
 
-    Returns surf (H, W) int8; direction and point (H, W, 3) float32; distance
-    (H, W) float32; normal (H, W, 3) float32, NaN everywhere (the sea's and
-    the islands' are filled later); and ``hits``: for the sea (k = 0) and each
-    island k, the flat indices of its pixels, their s and their y.
+    ``best_u``, ``best_surf`` (W, K) hold K pixels of every scan line, from
+    the bottom, at heights ``zeta`` (K,); ``out`` = (surf (K, W) int8,
+    direction and point (K, W, 3) float32, distance (K, W) float32, normal
+    (K, W, 3) float32) is filled, rows from the top, the normal NaN
+    everywhere (the sea's and the islands' are filled later). Returns
+    ``hits``: for the sea (k = 0) and each island k, the flat indices of its
+    pixels in ``out``, their s and their y.
     """
-    surf, y, direction, point, distance, normal = _assemble_geometry(best_u, best_surf, s_all, zeta)
+    surf, y = _assemble_geometry(best_u, best_surf, s_all, zeta, out)
     W = surf.shape[1]
     flat_surf = surf.reshape(-1)
     flat_y = y.reshape(-1)
@@ -152,7 +240,7 @@ def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int):
     for k in range(n_islands + 1):
         idx = np.flatnonzero(flat_surf == SEA + k)
         hits.append((idx, s_all[idx % W], flat_y[idx]))
-    return surf, direction, point, distance, normal, hits
+    return hits
 
 
 @twin("sunset.vector.direct_numba")
@@ -161,14 +249,13 @@ def put_unit_normals(normal, idx, fx, fy) -> None:
     normal.reshape(-1, 3)[idx] = unit_normal(fx, fy)
 
 
-def _assemble_geometry(best_u, best_surf, s_all, zeta):
-    """The per-pixel geometry as whole-array operations.
+def _assemble_geometry(best_u, best_surf, s_all, zeta, out):
+    """The per-pixel geometry as whole-array operations, into ``out`` (see :func:`assemble_geometry`).
 
-    Returns surf (H, W) int8, y (H, W) float64 (NaN for sky), direction and
-    point (H, W, 3) float32, distance (H, W) float32 and normal (H, W, 3)
-    float32, NaN everywhere (the sea's and the islands' are filled later).
+    Returns surf (H, W) int8 and y (H, W) float64 (NaN for sky).
     """
-    surf = np.ascontiguousarray(best_surf[:, ::-1].T)
+    surf, direction, point, distance, normal = out
+    surf[...] = best_surf[:, ::-1].T
     u = np.ascontiguousarray(best_u[:, ::-1].T)
     H, W = surf.shape
     hit = surf != SKY
@@ -178,14 +265,12 @@ def _assemble_geometry(best_u, best_surf, s_all, zeta):
     z = zeta[::-1][:, None]
     length = np.sqrt(1.0 + s * s + z * z)                  # |(s, 1, ζ)|
     inv = 1.0 / length
-    direction = np.empty((H, W, 3), dtype=_F32)
     direction[..., 0] = s * inv
     direction[..., 1] = inv
     direction[..., 2] = z * inv
-    point = np.empty((H, W, 3), dtype=_F32)
     point[..., 0] = s * y
     point[..., 1] = y
     point[..., 2] = z * y
-    distance = np.where(hit, y * length, np.inf).astype(_F32)
-    normal = np.full((H, W, 3), np.nan, dtype=_F32)
-    return surf, y, direction, point, distance, normal
+    distance[...] = np.where(hit, y * length, np.inf)
+    normal.fill(np.nan)
+    return surf, y

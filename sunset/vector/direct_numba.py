@@ -55,36 +55,41 @@ def _assemble(best_u, best_surf, s_all, zeta, sky_code, sea_code, start, surf, d
                 normal[row, c, 2] = np.nan
 
 
-def assemble(best_u, best_surf, s_all, zeta, sky_code: int, sea_code: int, n_islands: int):
+@_jit
+def _count(best_surf, sea_code, n):
+    """Pixels of each surface sea_code … sea_code + n − 1 in the depth buffer."""
+    out = np.zeros(n, np.int64)
+    W, K = best_surf.shape
+    for c in range(W):
+        for k in range(K):
+            i = best_surf[c, k] - sea_code
+            if 0 <= i < n:
+                out[i] += 1
+    return out
+
+
+def assemble(best_u, best_surf, s_all, zeta, sky_code: int, sea_code: int, n_islands: int, out):
     """The geometry of :func:`sunset.vector.direct.assemble_geometry` in one pass.
 
-    From 1/yp and the winning surface per (scan line, pixel from the bottom):
-    ``surf`` (H, W) int8, ``direction``, ``point`` (H, W, 3) float32,
-    ``distance`` (H, W) float32 and ``normal`` (H, W, 3) float32 (NaN except
-    on the sea, left for the caller to fill), and for surface ``sea_code + i``
-    (i = 0 the sea, i = k island k) the compressed list ``hits[i] = (flat
-    pixel index, s, y)`` in row-major order (``np.flatnonzero`` order).
+    From 1/yp and the winning surface per (scan line, pixel from the bottom),
+    into ``out`` = (``surf`` (H, W) int8, ``direction``, ``point`` (H, W, 3)
+    float32, ``distance`` (H, W) float32, ``normal`` (H, W, 3) float32: NaN
+    except on the sea, left for the caller to fill); returns for surface
+    ``sea_code + i`` (i = 0 the sea, i = k island k) the compressed list
+    ``hits[i] = (flat pixel index, s, y)`` in row-major order
+    (``np.flatnonzero`` order).
     """
-    W, H = best_u.shape
-    best_surf = np.ascontiguousarray(best_surf)
-    counts = np.bincount(best_surf.reshape(-1).view(np.uint8), minlength=256)
-    # int8 codes sea_code … sea_code + n_islands as uint8 bins (all >= 0)
-    per = counts[sea_code:sea_code + n_islands + 1].astype(np.int64)
+    surf, direction, point, distance, normal = out
+    per = _count(best_surf, sea_code, n_islands + 1)
     start = np.concatenate([[0], np.cumsum(per)[:-1]]).astype(np.int64)
     total = int(per.sum())
-    surf = np.empty((H, W), np.int8)
-    direction = np.empty((H, W, 3), np.float32)
-    point = np.empty((H, W, 3), np.float32)
-    distance = np.empty((H, W), np.float32)
-    normal = np.empty((H, W, 3), np.float32)
     hit_flat = np.empty(total, np.intp)
     hit_s = np.empty(total)
     hit_y = np.empty(total)
-    _assemble(np.ascontiguousarray(best_u), best_surf, np.ascontiguousarray(s_all, np.float64),
+    _assemble(best_u, best_surf, np.ascontiguousarray(s_all, np.float64),
               np.ascontiguousarray(zeta, np.float64), sky_code, sea_code, start, surf, direction, point, distance,
               normal, hit_flat, hit_s, hit_y)
-    hits = [(hit_flat[a:a + n], hit_s[a:a + n], hit_y[a:a + n]) for a, n in zip(start, per)]
-    return surf, direction, point, distance, normal, hits
+    return [(hit_flat[a:a + n], hit_s[a:a + n], hit_y[a:a + n]) for a, n in zip(start, per)]
 
 
 @_jit
@@ -110,6 +115,6 @@ def put_unit_normals(normal, flat, fx, fy) -> None:
                       fx.dtype.type(1.0), normal.reshape(-1, 3))
 
 
-def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int):
+def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int, out):
     """:func:`sunset.vector.direct.assemble_geometry` in one compiled pass (:func:`assemble`)."""
-    return assemble(best_u, best_surf, s_all, zeta, SKY, SEA, n_islands)
+    return assemble(best_u, best_surf, s_all, zeta, SKY, SEA, n_islands, out)

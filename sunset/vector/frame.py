@@ -13,11 +13,12 @@ picture, column 0 at the left (the first scan line).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
 from ..constants import SKY
+from ..kernels import run_strips, strips
 
 
 @dataclass
@@ -100,15 +101,35 @@ class Frame:
 
         Sky and island pixels end where the direct ray ends; sea pixels keep
         ``final_surface`` = 0 until :mod:`sunset.vector.pierce` traces them.
+        The copies are made strip by strip on all threads.
         """
-        self.bounces = np.zeros(self.shape, np.uint8)
-        self.ray = self.direction.copy()
-        self.final_surface = self.surface.copy()
-        self.final_part = self.part.copy()
-        self.final_normal = self.normal.copy()
-        self.incidence = np.full(self.shape + (2,), np.nan, np.float32)
-        self.sea_rays = np.full(self.shape + (2, 3), np.nan, np.float32)
+        self.bounces = np.empty(self.shape, np.uint8)
+        self.ray = np.empty_like(self.direction)
+        self.final_surface = np.empty_like(self.surface)
+        self.final_part = np.empty_like(self.part)
+        self.final_normal = np.empty_like(self.normal)
+        self.incidence = np.empty(self.shape + (2,), np.float32)
+        self.sea_rays = np.empty(self.shape + (2, 3), np.float32)
+
+        def copy(r0: int, r1: int) -> None:
+            self.bounces[r0:r1] = 0
+            self.ray[r0:r1] = self.direction[r0:r1]
+            self.final_surface[r0:r1] = self.surface[r0:r1]
+            self.final_part[r0:r1] = self.part[r0:r1]
+            self.final_normal[r0:r1] = self.normal[r0:r1]
+            self.incidence[r0:r1] = np.nan
+            self.sea_rays[r0:r1] = np.nan
+
+        run_strips(copy, strips(self.shape[0]))
         return self
+
+    def rows(self, r0: int, r1: int) -> "Frame":
+        """The rows ``r0 … r1 − 1`` as a frame of views into this one (writing to it writes here)."""
+        views = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            views[f.name] = value[r0:r1] if isinstance(value, np.ndarray) else value
+        return Frame(**views)
 
     @property
     def sky(self) -> np.ndarray:

@@ -391,7 +391,9 @@ def sea_scan(u, g, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf)
     n_pixels : int
         Pixels on a scan line.
     best_u, best_surf : ndarray (C, n_pixels)
-        The depth buffer, updated in place: 1/yp of the sea where it is hit.
+        The depth buffer (the islands' already), updated in place: 1/yp of
+        the sea where it is hit and not farther than what is there (the sea
+        wins ties).
 
     Returns
     -------
@@ -409,7 +411,7 @@ def sea_scan(u, g, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf)
         u_tail = np.where(g_far < 0, zeta[None, :] * u_far / np.minimum(g_far, -1e-30), 0.0)
         u_hit = np.where(tail, np.clip(u_tail, 0.0, u_far), u_hit)
         tail_pixels = int(tail.sum())
-    sea_hit = u_hit > 0
+    sea_hit = (u_hit > 0) & (u_hit >= best_u)
     best_u[sea_hit] = u_hit[sea_hit]
     best_surf[sea_hit] = SEA
     return tail_pixels

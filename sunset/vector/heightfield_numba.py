@@ -75,7 +75,7 @@ def _scan_columns(u, u_start, g, g_start, counts, zeta0, dzeta, inv_dzeta_t, zet
 
 @_jit
 def _scan_merge(u, u_start, g, g_start, counts, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t, zero_t,
-                n_pixels, tail, u_far, best_u, best_surf, code):
+                n_pixels, tail, u_far, best_u, best_surf, code, ties):
     K = n_pixels
     row = np.empty(K)
     n_tail = 0
@@ -99,7 +99,7 @@ def _scan_merge(u, u_start, g, g_start, counts, zeta0, dzeta, inv_dzeta_t, zeta0
                         ut = u_far
                     row[k] = ut
         for k in range(K):
-            if row[k] > best_u[c, k]:
+            if row[k] > best_u[c, k] or (ties and row[k] > 0 and row[k] == best_u[c, k]):
                 best_u[c, k] = row[k]
                 best_surf[c, k] = code
     return n_tail
@@ -124,8 +124,11 @@ def _scan_args(u, g, counts, zeta0, dzeta, n_pixels):
 
 
 def scan_merge(u, g, counts, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf, code: int,
-               tail_u_far: float | None = None) -> int:
+               tail_u_far: float | None = None, ties: bool = False) -> int:
     """:func:`scan_columns` merged into a depth buffer: where the new 1/yp is larger, it and ``code`` win.
+
+    With ``ties`` they also win where the new 1/yp is positive and equal
+    (the sea, merged after the islands, wins ties).
 
     ``best_u`` (C, K) float64 and ``best_surf`` (C, K) int8 are updated in
     place (C-contiguous). With ``tail_u_far`` the sea's far tail of
@@ -137,7 +140,8 @@ def scan_merge(u, g, counts, zeta0: float, dzeta: float, n_pixels: int, best_u, 
         raise ValueError("best_u and best_surf must be C-contiguous")
     args = _scan_args(u, g, counts, zeta0, dzeta, n_pixels)
     tail = tail_u_far is not None
-    return int(_scan_merge(*args, tail, float(tail_u_far) if tail else 0.0, best_u, best_surf, int(code)))
+    return int(_scan_merge(*args, tail, float(tail_u_far) if tail else 0.0, best_u, best_surf, int(code),
+                           bool(ties)))
 
 
 def scan_columns(u, g, counts, zeta0: float, dzeta: float, n_pixels: int) -> np.ndarray:
@@ -170,4 +174,5 @@ def scan_columns(u, g, counts, zeta0: float, dzeta: float, n_pixels: int) -> np.
 
 def sea_scan(u, g, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf) -> int:
     """:func:`sunset.vector.heightfield.sea_scan`: the scan line, the far tail and the depth buffer in one pass."""
-    return scan_merge(u, g, np.full(len(g), len(u)), zeta0, dzeta, n_pixels, best_u, best_surf, SEA, tail_u_far=u[-1])
+    return scan_merge(u, g, np.full(len(g), len(u)), zeta0, dzeta, n_pixels, best_u, best_surf, SEA, tail_u_far=u[-1],
+                      ties=True)

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..constants import SEA, SKY
 from ..errors import require_int_range
-from ..kernels import twin
+from ..kernels import run_strips, strips, twin
 from .crests import secondary_reflections
 from .frame import Frame
 from .pierce import gather, island_normal, pierce_islands, reflect, scatter
@@ -50,10 +50,15 @@ def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
         frame.incidence = np.full(frame.shape + (2,), np.nan, np.float32)
         frame.sea_rays = np.full(frame.shape + (2, 3), np.nan, np.float32)
     frame.reflections = reflections
-    sea_mask = frame.surface == SEA
-    if not sea_mask.any():
-        return frame
-    return trace_sea_rays(scene, frame, reflections)
+
+    def rows(r0: int, r1: int) -> None:
+        part = frame.rows(r0, r1)
+        if np.any(part.surface == SEA):
+            trace_sea_rays(scene, part, reflections)
+
+    # every ray is traced on its own, so strips of rows go to the threads (sunset.kernels.run_strips)
+    run_strips(rows, strips(frame.shape[0]))
+    return frame
 
 
 @twin("sunset.vector.reflect_numba")

@@ -26,7 +26,7 @@ from ..errors import require_finite, require_int_range
 from .frame import Frame
 from ..model.scene import Scene
 
-def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
+def render(scene: Scene, t: float = 0.0, reflections: int = 2, *, islands=None) -> Frame:
     """Trace every pixel of ``scene`` at time ``t`` (seconds).
 
     Parameters
@@ -36,6 +36,10 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
         Time in seconds (the sea moves; nothing else does).
     reflections : {0, 1, 2}
         See the module docstring.
+    islands : IslandPass, optional
+        The islands' share of the direct rays, which does not change with
+        time (:func:`sunset.vector.direct.island_pass`): a wave cycle
+        computes it once and passes it to every frame.
 
     Returns
     -------
@@ -49,7 +53,7 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2) -> Frame:
 
     require_finite("t", t)
     require_int_range("reflections", reflections, 0, 2)
-    frame = trace_direct(scene, t)
+    frame = trace_direct(scene, t, islands=islands)
     if scene.clouds is not None:
         add_clouds(scene, frame)
     if scene.posts:
