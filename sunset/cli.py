@@ -36,6 +36,9 @@ EXAMPLES = {
   sunset player my.toml -o my.html --frames 16 --size 320x320 --from-hours 3 --to-hours -0.25""",
     "scene": """examples:
   sunset scene > my.toml""",
+    "export": """examples:
+  sunset export pov carlas-island -o scene.pov && povray +Iscene.pov +W1020 +H1023 -A +FN
+  sunset export pov my.toml --time 1.5 --size 320x320 -o scene.pov""",
 }
 
 
@@ -204,6 +207,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
     add("scene", "Print the default scene as TOML, to start a scene file from.")
+
+    p = add("export", "Write a scene for another renderer: POV-Ray 3.7 (sea and islands as isosurfaces).")
+    p.add_argument("format", choices=("pov",), help="pov: a POV-Ray 3.7 scene file")
+    p.add_argument("scene", help="scene TOML file (or a packaged scene name)")
+    p.add_argument("--time", type=_number, default=0.0, help="time t in seconds (default 0)")
+    p.add_argument("--size", type=_size, help="WxH in pixels (default: the scene's camera)")
+    p.add_argument("-o", "--output", required=True, help="output .pov file")
     return parser
 
 
@@ -312,8 +322,19 @@ def _cmd_scene(args) -> None:
     sys.stdout.write(Scene.default().to_toml())
 
 
+def _cmd_export(args) -> None:
+    from .io import check_writable, write_bytes
+    from .model.pov import pov_scene
+
+    check_writable(args.output, (".pov",))
+    scene = _load_scene(args.scene)
+    if args.size:
+        scene = scene.with_size(*args.size)
+    write_bytes(args.output, pov_scene(scene, args.time).encode("utf-8"))
+
+
 COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expose, "film": _cmd_film, "player": _cmd_player,
-            "scene": _cmd_scene}
+            "scene": _cmd_scene, "export": _cmd_export}
 
 
 # Options that take a value which may look like an option ("--size -5x10",
