@@ -173,6 +173,10 @@ NEAR_PLANE_FRACTION = 0.25
 #: a strip of scan lines stays in the cache while its profile is built and scanned).
 SCANLINE_CHUNK_ELEMENTS = 1 << 18
 
+#: Pixels in one strip of rows that a thread works on at a time (sunset.kernels.row_strips):
+#: the strips' temporaries (the reflected rays, the dither) stay this small at any picture size.
+STRIP_PIXELS = 1 << 16
+
 #: Most refinement steps of the island lattice per sea sample (σ/m).
 ISLAND_MAX_REFINEMENT = 4096
 

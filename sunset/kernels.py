@@ -49,7 +49,8 @@ try:  # pragma: no cover - exercised by whichever environment runs the tests
 except ImportError:  # pragma: no cover
     _numba = None
 
-__all__ = ["AVAILABLE", "enabled", "use_compiled", "jit", "twin", "threads", "use_threads", "strips", "run_strips"]
+__all__ = ["AVAILABLE", "enabled", "use_compiled", "jit", "twin", "threads", "use_threads", "strips", "row_strips",
+           "run_strips"]
 
 #: True when Numba is importable (the compiled kernels exist).
 AVAILABLE = _numba is not None
@@ -147,6 +148,13 @@ def strips(n_items: int, max_items: int | None = None, per_thread: int = 4) -> l
     count = min(count, n_items)
     edges = [n_items * i // count for i in range(count + 1)]
     return [(a, b) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+
+
+def row_strips(height: int, width: int) -> list[tuple[int, int]]:
+    """:func:`strips` of the rows of a picture, each at most ``STRIP_PIXELS`` pixels (and at least one row)."""
+    from .constants import STRIP_PIXELS
+
+    return strips(height, max(1, STRIP_PIXELS // max(1, width)))
 
 
 def _pool():

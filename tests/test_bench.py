@@ -20,7 +20,7 @@ from sunset.model.scene import Scene
 def report(tmp_path_factory):
     out = tmp_path_factory.mktemp("bench") / "bench.json"
     rep = bench.run_benchmark(out, repeats=1, brute_size=12, frame_sizes=((36, 30),), cycle_size=(24, 20),
-                              cycle_frames=2, scaling=False, profile=True)
+                              cycle_frames=2, scaling=False, profile=True, memory_sizes=(40, 64))
     return out, rep
 
 
@@ -32,9 +32,10 @@ def test_json_holds_every_measurement(report):
     assert any(w.startswith("brute-force") for w in whats)
     assert "Figure 6 frame 36x30" in whats
     assert "Figure 6 frame 36x30, NumPy kernels" in whats
+    assert "Figure 6 frame 36x30, one thread" in whats
     assert "2-frame cycle 24x20" in whats
     frame = {r["stage"]: r for r in data["rows"] if r["what"] == "Figure 6 frame 36x30"}
-    assert set(bench.STAGES) | {"vector stage", "total"} == set(frame)
+    assert set(bench.STAGES) | {"vector stage", "total", "cpu time"} == set(frame)
     cycle = {r["stage"] for r in data["rows"] if r["what"] == "2-frame cycle 24x20"}
     assert cycle == {"coded", "filmed", "total"}
     for key in ("cpu", "cpus", "python", "numpy", "numba", "date"):
@@ -111,3 +112,32 @@ def test_bad_arguments_are_one_line_errors(capsys):
     assert bench.main(["--repeats", "0"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "repeats" in err
+
+
+def test_memory_film_look_povray_and_load_are_reported(report):
+    from sunset.bench.extra import BYTES_PER_PIXEL_BOUND
+    from sunset.figures.povray import povray_path
+
+    _, rep = report
+    mem = rep["memory"]
+    assert mem["bound_bytes_per_pixel"] == BYTES_PER_PIXEL_BOUND
+    assert [(m["width"], m["height"]) for m in mem["sizes"]] == [(40, 40), (64, 64)]
+    for m in mem["sizes"]:
+        assert m["bytes_per_pixel"] == pytest.approx(m["added_mib"] * 2**20 / (m["width"] * m["height"]))
+    assert mem["ok"] == all(m["bytes_per_pixel"] <= BYTES_PER_PIXEL_BOUND for m in mem["sizes"])
+    look = rep["film_look"]
+    assert look["before"]["preset"] == "medium" and look["now"]["preset"] == "ultrafast"
+    for v in look.values():
+        assert v["frames"] == 24 and v["bytes"] > 0 and 10 < v["psnr_db"] < 100 and v["cpu_s"] > 0
+    assert len(rep["machine"]["load_before"]) == 3 and len(rep["machine"]["load_after"]) == 3
+    lim = rep["limits"]
+    assert lim["memory_s"] == pytest.approx(lim["bytes_written"] / (lim["copy_bandwidth_gbs"] * 1e9 * lim["cores"]))
+    assert lim["bytes_per_pixel_written"] == pytest.approx(73.0)   # the frame's 69 bytes, a code, RGB
+    assert lim["cosine_s"] > 0 and lim["trains"] == 4
+    if povray_path() is None:
+        assert rep["povray"] is None
+    else:
+        p = rep["povray"]
+        assert (p["width"], p["height"]) == (36, 30) and p["seconds"] > 0
+        assert p["ratio"] == pytest.approx(p["seconds"] / p["ours_s"])
+        assert 0.9 < p["direct_agree"] <= 1.0

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..constants import SUN_SUPERSAMPLE
 from ..errors import SunsetError, require_finite
-from ..kernels import run_strips, strips
+from ..kernels import row_strips, run_strips
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
 from ..model.sun import Sun
 from ..tape.codes import code_map
@@ -141,7 +141,7 @@ def expose(scene, codes, hours: float) -> np.ndarray:
     rgb = np.empty(codes.shape + (3,), np.uint8)
     # the three passes, one through each filter (PASSES), as one lookup of the code's (red, green, blue)
     lut = np.ascontiguousarray(tab.T)             # (256, 3)
-    run_strips(lambda r0, r1: np.take(lut, codes[r0:r1], axis=0, out=rgb[r0:r1]), strips(codes.shape[0]))
+    run_strips(lambda r0, r1: np.take(lut, codes[r0:r1], axis=0, out=rgb[r0:r1]), row_strips(*codes.shape))
     rows, cols, cov = sun_coverage(cam, scene.sun, hours)
     if cov.size:
         weight = np.where(code_map(scene).reaches_sky(codes[rows, cols]), cov, 0.0)[..., None]

@@ -64,7 +64,7 @@ import numpy as np
 from ..constants import (CLOUD, POST, CLOUDY_CODES_BEACH, CLOUDY_CODES_CLIFF, CLOUDY_CODES_CLOUD, CLOUDY_CODES_HILL,
                          CLOUDY_CODES_SKY, CODES_BEACH, CODES_CLIFF, CODES_HALO, CODES_HILL, CODES_SKY, CODES_TRACK, HALO_FACTOR,
                         N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY, TRACK_DITHER)
-from ..kernels import run_strips, strips, twin
+from ..kernels import row_strips, run_strips, twin
 from ..errors import SunsetError
 from ..vector.frame import Frame
 from ..model.sun import Sun
@@ -384,7 +384,7 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
                 out[cloud] = cmap.cloud.start + cloud_index(part.cloud_depth[cloud], cmap.cloud.size,
                                                             clouds.max_top, clouds.max_bottom, u[cloud])
 
-    run_strips(rows, strips(H))
+    run_strips(rows, row_strips(H, W))
     return codes
 
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..constants import ISLAND_SAMPLE_BUDGET, PART_NONE, SCANLINE_CHUNK_ELEMENTS, SEA, SKY
 from ..errors import SunsetError, require_finite
-from ..kernels import run_strips, strips, twin
+from ..kernels import row_strips, run_strips, strips, twin
 from ..model.waves import unit_normal
 from .frame import Frame
 from .heightfield import sampling, sea_gradient_on_scanlines, sea_profile, sea_scan
@@ -216,7 +216,7 @@ def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:
             part.reshape(-1)[idx] = prt
             normal.reshape(-1, 3)[idx] = unit_normal(gx.astype(_F32), gy.astype(_F32))
 
-    run_strips(rows, strips(H))
+    run_strips(rows, row_strips(H, W))
     return frame
 
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..constants import SKY
-from ..kernels import run_strips, strips
+from ..kernels import row_strips, run_strips
 
 
 @dataclass
@@ -120,7 +120,7 @@ class Frame:
             self.incidence[r0:r1] = np.nan
             self.sea_rays[r0:r1] = np.nan
 
-        run_strips(copy, strips(self.shape[0]))
+        run_strips(copy, row_strips(*self.shape))
         return self
 
     def rows(self, r0: int, r1: int) -> "Frame":

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..constants import SEA, SKY
 from ..errors import require_int_range
-from ..kernels import run_strips, strips, twin
+from ..kernels import row_strips, run_strips, twin
 from .crests import secondary_reflections
 from .frame import Frame
 from .pierce import gather, island_normal, pierce_islands, reflect, scatter
@@ -57,7 +57,7 @@ def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
             trace_sea_rays(scene, part, reflections)
 
     # every ray is traced on its own, so strips of rows go to the threads (sunset.kernels.run_strips)
-    run_strips(rows, strips(frame.shape[0]))
+    run_strips(rows, row_strips(*frame.shape))
     return frame
 
 

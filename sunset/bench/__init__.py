@@ -16,6 +16,15 @@ of the vector stage grows with the picture size and with the number of wave
 trains and islands; and a profile of one frame (the functions where the time
 goes). Everything lands in one JSON file (``figures/bench.json``), which the
 book's "Speed" chapter reads from a committed snapshot.
+
+Also measured (:mod:`sunset.bench.extra`): the frame on one thread (the
+baseline of "both cores inside one frame", in the same run), the peak memory
+one frame adds per pixel at several sizes, checked against
+:data:`~sunset.bench.extra.BYTES_PER_PIXEL_BOUND` (the bench fails when it is
+broken), the film's encoder settings against the old ones (time and PSNR),
+POV-Ray on the exported scene at the frame's size when ``povray`` is
+installed, and the machine's load average before and after (the machine may
+be shared: the ratios in one run are what to read).
 """
 
 from __future__ import annotations
@@ -33,7 +42,8 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from .constants import CRAY1_SECONDS_FIGURE6
+from ..constants import CRAY1_SECONDS_FIGURE6
+from . import extra
 
 #: Repeats per measurement (after one warm-up run).
 REPEATS = 5
@@ -66,13 +76,20 @@ def _timed(fn, repeats: int):
 
 
 def _frame_once(scene, t: float = 0.0) -> dict:
-    """One Figure 6 frame, stage by stage: seconds per stage (see :data:`STAGES`)."""
-    from .tape.codes import encode
-    from .recorder.dicomed import expose
-    from .vector.direct import trace_direct
-    from .vector.reflect import trace_reflections
+    """One Figure 6 frame, stage by stage: seconds per stage (see :data:`STAGES`), and the CPU time of all threads.
+
+    ``cpu time`` over ``total`` is how many cores the frame kept busy on
+    average. (On a machine shared by several login sessions, Linux's
+    autogroup scheduler gives each session a share of the CPUs, so a loaded
+    machine lends a frame's second thread little extra time.)
+    """
+    from ..tape.codes import encode
+    from ..recorder.dicomed import expose
+    from ..vector.direct import trace_direct
+    from ..vector.reflect import trace_reflections
 
     info: dict = {}
+    c0 = time.process_time()
     t0 = time.perf_counter()
     frame = trace_direct(scene, t, info=info)
     frame.reflections = 2
@@ -84,16 +101,17 @@ def _frame_once(scene, t: float = 0.0) -> dict:
     t3 = time.perf_counter()
     expose(scene, codes, 0.35)
     t4 = time.perf_counter()
+    c4 = time.process_time()
     sec = info["seconds"]
     direct_other = (t1 - t0) - sum(sec.values())  # finish_direct and bookkeeping: with the points
     return {"sea scan line": sec["sea"], "islands": sec["islands"],
             "points & normals": sec["assemble"] + direct_other, "reflections": t2 - t1, "codes": t3 - t2,
-            "film recorder": t4 - t3, "vector stage": t3 - t0, "total": t4 - t0}
+            "film recorder": t4 - t3, "vector stage": t3 - t0, "total": t4 - t0, "cpu time": c4 - c0}
 
 
 def _measure_frame(width: int, height: int, repeats: int) -> dict:
     """Time a Figure 6 frame (two reflections, default scene), stage by stage."""
-    from .model.scene import Scene
+    from ..model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     _frame_once(scene)  # warm-up (and the compiled kernels' load)
@@ -102,8 +120,8 @@ def _measure_frame(width: int, height: int, repeats: int) -> dict:
 
 
 def _measure_brute(width: int, height: int, repeats: int) -> dict:
-    from .vector.bruteforce import trace_direct_bruteforce
-    from .model.scene import Scene
+    from ..vector.bruteforce import trace_direct_bruteforce
+    from ..model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     return {"total": _timed(lambda: trace_direct_bruteforce(scene, 0.0), repeats)}
@@ -113,8 +131,8 @@ def _measure_cycle(width: int, height: int, repeats: int, frames: int = CYCLE_FR
     """A wave cycle coded (both cores) and filmed: the two steps and their sum."""
     import tempfile
 
-    from .recorder.film import render_cycle, write_film
-    from .model.scene import Scene
+    from ..recorder.film import render_cycle, write_film
+    from ..model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     out = {"coded": [], "filmed": [], "total": []}
@@ -133,15 +151,15 @@ def _measure_cycle(width: int, height: int, repeats: int, frames: int = CYCLE_FR
 
 def _vector_stage_seconds(scene, repeats: int) -> float:
     """Median seconds of render + encode (the vector stage) for one scene, after a warm-up."""
-    from .tape.codes import encode
-    from .vector.render import render
+    from ..tape.codes import encode
+    from ..vector.render import render
 
     return statistics.median(_timed(lambda: encode(scene, render(scene, 0.0, 2)), repeats))
 
 
 def _scaled_sea(sea, count: int):
     """A sea of ``count`` trains: the default's, then shorter ones (λ/n², so it stays periodic)."""
-    from .model.waves import Sea, WaveTrain
+    from ..model.waves import Sea, WaveTrain
 
     base = list(sea.trains)
     trains = base[:count]
@@ -168,14 +186,14 @@ def _scaled_islands(islands, count: int):
 
 def _measure_scaling(width: int, height: int, repeats: int) -> dict:
     """Vector-stage seconds against picture size, wave trains and islands (small repeats)."""
-    from .model.scene import Scene
+    from ..model.scene import Scene
 
     base = Scene.default()
     sizes = [s for s in SCALING_SIZES if s <= max(width, height)]
     out = {"size": {"n": sizes, "seconds": [], "sea_samples": [], "island_samples": []},
            "trains": {"n": list(SCALING_TRAINS), "seconds": []},
            "islands": {"n": list(SCALING_ISLANDS), "seconds": []}, "size_for_counts": SCALING_SIZE}
-    from .vector.direct import trace_direct
+    from ..vector.direct import trace_direct
 
     for n in sizes:
         sc = base.with_size(n, n)
@@ -198,7 +216,7 @@ def _measure_profile(width: int, height: int, repeats: int) -> dict:
     import cProfile
     import pstats
 
-    from .model.scene import Scene
+    from ..model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     _frame_once(scene)
@@ -231,9 +249,9 @@ def _function_name(file: str, name: str) -> str:
 
 def _measure_rgb(width: int, height: int, repeats: int) -> dict:
     """The RGB back end (:mod:`sunset.light`): re-shading a stored frame, one hour's light, a 4-sample frame."""
-    from .light.lighting import Lighting
-    from .light.render import shade_display, trace_geometry
-    from .model.scene import Scene
+    from ..light.lighting import Lighting
+    from ..light.render import shade_display, trace_geometry
+    from ..model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
     geometry = trace_geometry(scene, 0.0, 2)
@@ -244,12 +262,13 @@ def _measure_rgb(width: int, height: int, repeats: int) -> dict:
 
 
 MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
-                "scaling": _measure_scaling, "profile": _measure_profile, "rgb": _measure_rgb}
+                "scaling": _measure_scaling, "profile": _measure_profile, "rgb": _measure_rgb,
+                "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits}
 
 
 def _child(args) -> None:
     result = MEASUREMENTS[args.measure](args.width, args.height, args.repeats)
-    from . import kernels
+    from .. import kernels
 
     print(json.dumps({"times": result, **_peak(), "compiled": kernels.enabled()}))
 
@@ -260,16 +279,21 @@ def _peak() -> dict:
             "peak_rss_children_mib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0}
 
 
-def measure(kind: str, width: int, height: int, repeats: int = REPEATS, numpy_only: bool = False) -> dict:
+def measure(kind: str, width: int, height: int, repeats: int = REPEATS, numpy_only: bool = False,
+            threads: int | None = None) -> dict:
     """Run one measurement in a fresh Python process; returns its JSON result.
 
-    ``numpy_only`` runs it with the compiled kernels off (``SUNSET_COMPILED=0``).
+    ``numpy_only`` runs it with the compiled kernels off (``SUNSET_COMPILED=0``);
+    ``threads`` sets the threads of a frame (``SUNSET_THREADS``; default: all cores).
     """
     cmd = [sys.executable, "-m", "sunset.bench", "--measure", kind, "--width", str(width),
            "--height", str(height), "--repeats", str(repeats)]
     env = dict(os.environ)
     if numpy_only:
         env["SUNSET_COMPILED"] = "0"
+    env.pop("SUNSET_THREADS", None)
+    if threads is not None:
+        env["SUNSET_THREADS"] = str(threads)
     out = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -294,7 +318,15 @@ def machine() -> dict:
         numba_version = None
     return {"cpu": cpu, "cpus": os.cpu_count(), "platform": platform.platform(),
             "python": platform.python_version(), "numpy": numpy.__version__, "numba": numba_version,
-            "date": datetime.date.today().isoformat()}
+            "date": datetime.date.today().isoformat(), "load_before": _load()}
+
+
+def _load() -> list[float]:
+    """The machine's load average over 1, 5 and 15 minutes (runnable processes; 2 cores are busy at 2)."""
+    try:
+        return [round(x, 2) for x in os.getloadavg()]
+    except OSError:  # pragma: no cover - platforms without it
+        return []
 
 
 def _row(what: str, stage: str, times, pixels: int, res: dict) -> dict:
@@ -305,10 +337,12 @@ def _row(what: str, stage: str, times, pixels: int, res: dict) -> dict:
 def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle: bool = True, *,
                   frame_sizes=FRAME_SIZES, cycle_size=CYCLE_SIZE, cycle_frames: int = CYCLE_FRAMES,
                   numpy_reference: bool = True, scaling: bool = True, profile: bool = True,
-                  rgb: bool = True) -> dict:
+                  rgb: bool = True, memory_sizes=extra.MEMORY_SIZES, film_look: bool = True,
+                  povray: bool = True) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
+    mach = machine()
 
     log(f"brute-force reference at {brute_size}x{brute_size} ...")
     brute = measure("brute", brute_size, brute_size, repeats)
@@ -323,8 +357,12 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         compiled_on = res["compiled"]
         for stage, times in res["times"].items():
             rows.append(_row(f"Figure 6 frame {w}x{h}", stage, times, w * h, res))
+    w, h = frame_sizes[-1]
+    log(f"Figure 6 frame at {w}x{h}, one thread ...")
+    res = measure("frame", w, h, repeats, threads=1)
+    for stage, times in res["times"].items():
+        rows.append(_row(f"Figure 6 frame {w}x{h}, one thread", stage, times, w * h, res))
     if numpy_reference:
-        w, h = frame_sizes[-1]
         log(f"Figure 6 frame at {w}x{h}, NumPy reference kernels only ...")
         res = measure("frame", w, h, repeats, numpy_only=True)
         for stage, times in res["times"].items():
@@ -347,18 +385,46 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         r["cray1_ratio"] = CRAY1_SECONDS_FIGURE6 / r["median_s"] if figure6 else None
         r["brute_ratio"] = brute_per_px * r["pixels"] / r["median_s"]
 
-    report = {"machine": machine(), "compiled": compiled_on, "repeats": repeats,
+    report = {"machine": mach, "compiled": compiled_on, "repeats": repeats,
               "cray1_seconds": CRAY1_SECONDS_FIGURE6, "brute_seconds_per_pixel": brute_per_px,
-              "brute_size": brute_size, "rows": rows}
+              "brute_size": brute_size, "rows": rows, "threads": os.cpu_count()}
+    memory = []
+    for n in memory_sizes:
+        log(f"memory of one frame at {n}x{n} ...")
+        memory.append(measure("memory", n, n, 1)["times"])
+    report["memory"] = {"bound_bytes_per_pixel": extra.BYTES_PER_PIXEL_BOUND, "sizes": memory,
+                        "ok": all(m["bytes_per_pixel"] <= extra.BYTES_PER_PIXEL_BOUND for m in memory)}
+    w, h = frame_sizes[-1]
+    log(f"the floor under a {w}x{h} frame: memory bandwidth and cosine rate ...")
+    report["limits"] = measure("limits", w, h, repeats)["times"]
+    if film_look:
+        w, h = cycle_size
+        log(f"film encoder settings, now and before, at {w}x{h} ...")
+        report["film_look"] = measure("filmlook", w, h, 1)["times"]
+    if povray:
+        w, h = frame_sizes[-1]
+        ours = statistics.median(next(r for r in rows if r["what"] == f"Figure 6 frame {w}x{h}"
+                                      and r["stage"] == "total")["runs_s"])
+        log(f"POV-Ray on the exported scene at {w}x{h} (once) ...")
+        report["povray"] = extra.povray_comparison(w, h, ours, Path(out).parent)
     if scaling:
         log("scaling with picture size, wave trains and islands ...")
         report.update(measure("scaling", max(SCALING_SIZES), max(SCALING_SIZES), 5)["times"])
     if profile:
         w, h = frame_sizes[-1]
-        log(f"profile of a {w}x{h} frame ...")
-        report.update(measure("profile", w, h, 3)["times"])
+        log(f"profile of a {w}x{h} frame (one thread: cProfile sees only its own) ...")
+        report.update(measure("profile", w, h, 3, threads=1)["times"])
+    mach["load_after"] = _load()
     print(format_table(rows))
-    from .io import write_bytes
+    for m in report["memory"]["sizes"]:
+        print(f"memory of one frame at {m['width']}x{m['height']}: {m['bytes_per_pixel']:.1f} bytes/pixel "
+              f"(bound {extra.BYTES_PER_PIXEL_BOUND})")
+    if report.get("povray"):
+        p = report["povray"]
+        print(f"POV-Ray {p['width']}x{p['height']}: {p['seconds']:.1f} s, {p['ratio']:.0f} × ours; "
+              f"direct rays agree on {100 * p['direct_agree']:.2f} % of pixels")
+    print(f"load average before {mach['load_before']}, after {mach['load_after']}")
+    from ..io import write_bytes
 
     write_bytes(out, (json.dumps(report, indent=2) + "\n").encode())
     return report
@@ -387,6 +453,7 @@ def main(argv=None) -> int:
     p.add_argument("--repeats", type=int, default=REPEATS)
     p.add_argument("--brute-size", type=int, default=96)
     p.add_argument("--no-cycle", action="store_true")
+    p.add_argument("--no-povray", action="store_true", help="do not time POV-Ray even where it is installed")
     p.add_argument("--measure", choices=list(MEASUREMENTS), help=argparse.SUPPRESS)
     p.add_argument("--width", type=int, help=argparse.SUPPRESS)
     p.add_argument("--height", type=int, help=argparse.SUPPRESS)
@@ -403,7 +470,12 @@ def main(argv=None) -> int:
             _child(args)
         return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    run_benchmark(args.out, args.repeats, args.brute_size, cycle=not args.no_cycle)
+    report = run_benchmark(args.out, args.repeats, args.brute_size, cycle=not args.no_cycle,
+                           povray=not args.no_povray)
+    if not report["memory"]["ok"]:
+        print(f"sunset.bench: FAILED: one frame needs more than {extra.BYTES_PER_PIXEL_BOUND} bytes per pixel",
+              file=sys.stderr)
+        return 1
     return 0
 
 
