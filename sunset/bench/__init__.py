@@ -93,9 +93,9 @@ def _frame_once(scene, t: float = 0.0) -> dict:
     t0 = time.perf_counter()
     frame = trace_direct(scene, t, info=info)
     frame.reflections = 2
-    frame.finish_direct()
+    frame.finish_direct(sea_bounces=False)      # the 8-bit pipeline: the RGB back end's fields are not made
     t1 = time.perf_counter()
-    trace_reflections(scene, frame, 2)
+    trace_reflections(scene, frame, 2, sea_bounces=False)
     t2 = time.perf_counter()
     codes = encode(scene, frame, seed=0)
     t3 = time.perf_counter()

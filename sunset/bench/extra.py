@@ -32,14 +32,11 @@ OLD_X264_PARAMS = ["-preset", "medium", "-crf", "18", "-threads", "2", "-x264-pa
 
 
 def _frame(scene):
+    """One frame of the 8-bit pipeline: scene → tape (:func:`~sunset.tape.cycle.code_frame`) → film recorder."""
     from ..recorder.dicomed import expose
-    from ..tape.codes import encode
-    from ..vector.render import render
+    from ..tape.cycle import code_frame
 
-    frame = render(scene, 0.0, 2)
-    codes = encode(scene, frame)
-    del frame
-    return expose(scene, codes, 0.35)
+    return expose(scene, code_frame(scene, 0.0), 0.35)
 
 
 def measure_memory(width: int, height: int, repeats: int = 1) -> dict:
@@ -177,7 +174,7 @@ def measure_limits(width: int, height: int, repeats: int = 5) -> dict:
     scene = Scene.default().with_size(width, height)
     info: dict = {}
     trace_direct(scene, 0.0, info=info)
-    frame = render(scene, 0.0, 2)
+    frame = render(scene, 0.0, 2, sea_bounces=False)
     frame_bytes = sum(getattr(frame, f).nbytes for f in ("direction", "surface", "part", "distance", "point",
                                                          "normal", "bounces", "ray", "final_surface", "final_part",
                                                          "final_normal"))

@@ -27,7 +27,7 @@ def code_frame(scene: Scene, t: float, reflections: int = 2, seed: int = 0, isla
     many frames.
     """
 
-    return encode(scene, render(scene, float(t), reflections, islands=islands), seed=seed)
+    return encode(scene, render(scene, float(t), reflections, islands=islands, sea_bounces=False), seed=seed)
 
 
 #: What a worker process of :func:`code_frames` keeps for all its frames: the islands' pass.

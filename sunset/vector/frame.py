@@ -72,6 +72,8 @@ class Frame:
         the |R_z| of the reflection modes; NaN where there is no such bounce.
         With ``direction`` they give each bounce's normal,
         N_k ∝ R_k − I_k, I₁ = D, I₂ = R₁ (:mod:`sunset.light`).
+        ``incidence`` and ``sea_rays`` are None when the frame was rendered
+        without them (``render(..., sea_bounces=False)``: the 8-bit tape).
     """
 
     t: float
@@ -96,20 +98,24 @@ class Frame:
         """(height, width) in pixels."""
         return self.surface.shape
 
-    def finish_direct(self) -> "Frame":
+    def finish_direct(self, sea_bounces: bool = True) -> "Frame":
         """Fill the final-ray fields as if no ray reflected (direct rays only).
 
         Sky and island pixels end where the direct ray ends; sea pixels keep
         ``final_surface`` = 0 until :mod:`sunset.vector.pierce` traces them.
-        The copies are made strip by strip on all threads.
+        The copies are made strip by strip on all threads. ``sea_bounces``:
+        also make ``incidence`` and ``sea_rays`` (NaN until the sea's rays
+        are traced), which the RGB back end reads and the 8-bit codes do not
+        (32 bytes a pixel).
         """
         self.bounces = np.empty(self.shape, np.uint8)
         self.ray = np.empty_like(self.direction)
         self.final_surface = np.empty_like(self.surface)
         self.final_part = np.empty_like(self.part)
         self.final_normal = np.empty_like(self.normal)
-        self.incidence = np.empty(self.shape + (2,), np.float32)
-        self.sea_rays = np.empty(self.shape + (2, 3), np.float32)
+        if sea_bounces:
+            self.incidence = np.empty(self.shape + (2,), np.float32)
+            self.sea_rays = np.empty(self.shape + (2, 3), np.float32)
 
         def copy(r0: int, r1: int) -> None:
             self.bounces[r0:r1] = 0
@@ -117,8 +123,9 @@ class Frame:
             self.final_surface[r0:r1] = self.surface[r0:r1]
             self.final_part[r0:r1] = self.part[r0:r1]
             self.final_normal[r0:r1] = self.normal[r0:r1]
-            self.incidence[r0:r1] = np.nan
-            self.sea_rays[r0:r1] = np.nan
+            if sea_bounces:
+                self.incidence[r0:r1] = np.nan
+                self.sea_rays[r0:r1] = np.nan
 
         run_strips(copy, row_strips(*self.shape))
         return self

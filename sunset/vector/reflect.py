@@ -23,7 +23,7 @@ from .pierce import gather, island_normal, pierce_islands, reflect, scatter
 __all__ = ["trace_reflections", "trace_sea_rays", "record_bounces"]
 
 
-def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
+def trace_reflections(scene, frame: Frame, reflections: int, sea_bounces: bool = True) -> Frame:
     """Trace the reflected rays of every sea pixel and fill the frame's final fields.
 
     Parameters
@@ -35,6 +35,9 @@ def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
         0: R_z → |R_z|, straight to the sky. 1: one reflection, |R_z|, then the
         islands or the sky (Figures 4, 5). 2: secondary reflections off the
         crest cylinder, then |R_z|, then the islands or the sky (Figure 6).
+    sea_bounces : bool
+        Also record each sea bounce in ``incidence`` and ``sea_rays`` (for
+        the RGB back end); without them a frame needs 32 bytes a pixel less.
 
     Returns
     -------
@@ -45,8 +48,8 @@ def trace_reflections(scene, frame: Frame, reflections: int) -> Frame:
     """
     require_int_range("reflections", reflections, 0, 2)
     if frame.bounces is None:
-        frame.finish_direct()
-    if frame.incidence is None:
+        frame.finish_direct(sea_bounces)
+    if sea_bounces and frame.incidence is None:
         frame.incidence = np.full(frame.shape + (2,), np.nan, np.float32)
         frame.sea_rays = np.full(frame.shape + (2, 3), np.nan, np.float32)
     frame.reflections = reflections
@@ -111,8 +114,10 @@ def record_bounces(frame: Frame, flat, cos1, r1, idx=None, ray2=None) -> None:
     the first reflected rays there; ``idx`` (into ``flat``) and ``ray2`` the
     rays that reflect a second time. Since R₂ = R₁ − 2(R₁·N₂)N₂ with
     R₁·N₂ = −cos i₂, the second incidence cosine is |R₂ − R₁|/2. The 8-bit
-    codes read none of this.
+    codes read none of this: a frame without these fields (None) records nothing.
     """
+    if frame.incidence is None:
+        return
     inc = frame.incidence.reshape(-1, 2)
     rays = frame.sea_rays.reshape(-1, 2, 3)
     inc[flat, 0] = cos1

@@ -26,7 +26,7 @@ from ..errors import require_finite, require_int_range
 from .frame import Frame
 from ..model.scene import Scene
 
-def render(scene: Scene, t: float = 0.0, reflections: int = 2, *, islands=None) -> Frame:
+def render(scene: Scene, t: float = 0.0, reflections: int = 2, *, islands=None, sea_bounces: bool = True) -> Frame:
     """Trace every pixel of ``scene`` at time ``t`` (seconds).
 
     Parameters
@@ -40,6 +40,9 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2, *, islands=None) 
         The islands' share of the direct rays, which does not change with
         time (:func:`sunset.vector.direct.island_pass`): a wave cycle
         computes it once and passes it to every frame.
+    sea_bounces : bool
+        Record each sea bounce (``Frame.incidence``, ``Frame.sea_rays``) for
+        the RGB back end; the 8-bit tape does without them (32 bytes a pixel).
 
     Returns
     -------
@@ -58,7 +61,7 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2, *, islands=None) 
         add_clouds(scene, frame)
     if scene.posts:
         add_posts(scene, frame)
-    trace_reflections(scene, frame, reflections)
+    trace_reflections(scene, frame, reflections, sea_bounces)
     if scene.clouds is not None:
         reflected_clouds(scene, frame)
     if scene.posts:

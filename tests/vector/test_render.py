@@ -157,3 +157,20 @@ def test_frame_workers():
     assert 1 <= frame_workers(None, 10) <= 2
     with pytest.raises(SunsetError, match="workers"):
         frame_workers(0, 5)
+
+
+def test_a_frame_without_the_sea_bounces_codes_the_same():
+    # the 8-bit tape does not read Frame.incidence / Frame.sea_rays, so code_frame does not make them
+    from sunset.tape.codes import encode
+    from sunset.tape.cycle import code_frame
+    from sunset.vector.render import render
+
+    scene = Scene.default().with_size(80, 64)
+    full = render(scene, 0.8, 2)
+    lean = render(scene, 0.8, 2, sea_bounces=False)
+    assert full.incidence is not None and full.sea_rays is not None
+    assert lean.incidence is None and lean.sea_rays is None
+    for name in ("direction", "surface", "part", "distance", "point", "normal", "bounces", "ray", "final_surface",
+                 "final_part", "final_normal"):
+        np.testing.assert_array_equal(getattr(lean, name), getattr(full, name), err_msg=name)
+    np.testing.assert_array_equal(code_frame(scene, 0.8, 2, seed=3), encode(scene, full, seed=3))
