@@ -38,10 +38,6 @@ __all__ = ["tables", "tables_linear", "sun_colour", "glitter_weights"]
 _N_SUBCODE = 16
 
 
-#: Sub-samples of each island code's dither interval.
-_N_SUBCODE = 16
-
-
 def _axis_direction(elevation: np.ndarray) -> np.ndarray:
     """The direction along the camera's axis (+y) at each elevation."""
     e = np.asarray(elevation, dtype=float)
