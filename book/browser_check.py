@@ -555,7 +555,8 @@ def _check_png_filters(dt: DevTools, session: str, data: dict) -> list[str]:
 
 
 def _dump_cases(data: dict) -> list[tuple[int, float]]:
-    """Frames and hours to compare: the ends of the grid, and the hours where the rim has most sky pixels."""
+    """Frames and hours to compare: the ends of the grid, the hour the player opens at, and the hours where
+    the rim has most sky pixels."""
     import numpy as np
 
     from sunset.recorder.player import decode_codes
@@ -569,7 +570,8 @@ def _dump_cases(data: dict) -> list[tuple[int, float]]:
             box = codes[0][s["r0"]:s["r0"] + s["h"], s["c0"]:s["c0"] + s["w"]]
             rim[h] = int(np.count_nonzero((k > 0) & (k < n2) & (box >= data["sky_start"])))
     best = [int(i) for i in np.argsort(-rim, kind="stable")[:2] if rim[i] > 0]
-    hours = [0, m - 1] + best
+    start = int(np.argmin(np.abs(np.asarray(data["hours"]) - data["start_hours"])))
+    hours = [0, m - 1, start] + best
     frames = [0, n // 2, n - 1, (n // 3) % n]
     step = (data["hours"][1] - data["hours"][0]) if m > 1 else 0.0
     # off-grid hours (a quarter step away) test "the grid hour nearest H"

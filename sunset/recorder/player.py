@@ -6,9 +6,10 @@ the picture at that hour. This module computes all three in Python, packs
 them into one JSON document and writes them, with a small plain-JavaScript
 player (``player.js``, ``player.css`` and ``player.html`` beside this file),
 into one HTML file that works from disk with no network. The JavaScript
-computes nothing of its own: it looks entries up in the tables Python made
-and composes them exactly as :func:`sunset.expose` does (:func:`compose` is
-the same composition in NumPy, the export format's reference).
+computes no colour of its own: it decodes the PNG frames, looks entries up in
+the tables Python made and composes them exactly as :func:`sunset.expose`
+does (:func:`compose` is the same composition in NumPy, the export format's
+reference).
 
 What the player's data holds
 ----------------------------
