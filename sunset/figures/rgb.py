@@ -103,7 +103,7 @@ def quantisation_figure(path, scene, hours: float = SUNSET_HOURS, seed: int = 0,
         im = ax.imshow(de, cmap="magma", vmin=0, vmax=vmax, interpolation="nearest")
         ax.set_title(title, fontsize=9)
         ax.set_axis_off()
-    fig.colorbar(im, ax=axes[1, :2], shrink=0.8, label="CIEDE2000 (clipped at 10)")
+    fig.colorbar(im, ax=axes[1, 1], shrink=0.8, label="CIEDE2000 (clipped at 10)")
     ax = axes[1, 2]
     bins = np.linspace(0, 20, 81)
     for de, label in ((q.best, "best palette"), (q.codes, "paper's codes")):

@@ -114,18 +114,19 @@ class Geometry:
         kind = np.where((final_surface == SKY) | (final_surface == CLOUD), SKY,
                         np.where(final_surface == POST, PART_CLIFF, final_part)).astype(np.int8)
         normal = np.nan_to_num(frame.final_normal.reshape(-1, 3).astype(np.float32), nan=0.0)
-        throughput = np.ones(npx, np.float64)
+        throughput = np.ones(npx, np.float32)
         layers = []
 
         sea = np.flatnonzero(surface == SEA)
-        inc = frame.incidence.reshape(-1, 2)[sea].astype(np.float64)
-        rays = frame.sea_rays.reshape(-1, 2, 3)[sea].astype(np.float64)
-        d = frame.direction.reshape(-1, 3)[sea].astype(np.float64)
-        n1 = frame.normal.reshape(-1, 3)[sea].astype(np.float64)
+        # float32 throughout, as the frame stores them
+        inc = frame.incidence.reshape(-1, 2)[sea]
+        rays = frame.sea_rays.reshape(-1, 2, 3)[sea]
+        d = frame.direction.reshape(-1, 3)[sea]
+        n1 = frame.normal.reshape(-1, 3)[sea]
         # bounce 1: the eye's ray D on the wave normal N₁
         c1 = np.clip(inc[:, 0], 0.0, 1.0)
         layers.append(_water(sea, d, n1, c1, throughput[sea], n))
-        throughput[sea] *= reflectance(c1, n)
+        throughput[sea] *= reflectance(c1, n).astype(np.float32)
         last = rays[:, 0]
         # bounce 2: R₁ on N₂ = (R₂ − R₁)/(2 cos i₂)
         two = np.isfinite(inc[:, 1])
@@ -133,10 +134,10 @@ class Geometry:
             c2 = np.clip(inc[two, 1], 0.0, 1.0)
             r1, r2 = rays[two, 0], rays[two, 1]
             n2 = r2 - r1
-            n2 /= np.maximum(np.linalg.norm(n2, axis=-1, keepdims=True), 1e-300)
+            n2 /= np.maximum(np.linalg.norm(n2, axis=-1, keepdims=True), np.float32(1e-30))
             idx = sea[two]
             layers.append(_water(idx, r1, n2, c2, throughput[idx], n))
-            throughput[idx] *= reflectance(c2, n)
+            throughput[idx] *= reflectance(c2, n).astype(np.float32)
             last = last.copy()
             last[two] = r2
         # the fold: a ray still heading down reflects off the mean surface
@@ -145,16 +146,16 @@ class Geometry:
             idx = sea[down]
             ld = last[down]
             c3 = np.clip(-ld[:, 2], 0.0, 1.0)
-            up = np.broadcast_to(np.array([0.0, 0.0, 1.0]), ld.shape)
+            up = np.broadcast_to(np.array([0.0, 0.0, 1.0], np.float32), ld.shape)
             layers.append(_water(idx, ld, up, c3, throughput[idx], n))
-            throughput[idx] *= reflectance(c3, n)
+            throughput[idx] *= reflectance(c3, n).astype(np.float32)
 
         sky_index = np.flatnonzero(kind == SKY)
-        fd = final_dir[sky_index].astype(np.float64)
+        fd = final_dir[sky_index]
         r_max = (SKY_ROWS - 1) * SKY_REFINE[0]
         rows = np.clip(sky_row(fd[:, 2]) * SKY_REFINE[0], 0, r_max)
         r0 = np.minimum(rows.astype(np.int32), r_max - 1)
-        az = np.arctan2(fd[:, 1], fd[:, 0]).astype(np.float32)
+        az = np.arctan2(fd[:, 1], fd[:, 0])
         island_index = np.flatnonzero(kind > 0)
         g = (np.clip(normal[island_index, :2].astype(np.float64), -1, 1) + 1.0) * (0.5 * (NORMAL_GRID - 1))
         g0 = np.minimum(g.astype(np.int32), NORMAL_GRID - 2)
@@ -181,7 +182,7 @@ class Geometry:
 
 
 def _water(index, incident, normal, cos_i, before, n) -> WaterLayer:
-    t = refract(incident, normal, cos_i, n)
+    t = refract(incident, normal, cos_i, np.float32(n))
     up = -t / np.linalg.norm(t, axis=-1, keepdims=True)
-    weight = before * (1.0 - reflectance(cos_i, n)) / (n * n)
+    weight = before * ((1.0 - reflectance(cos_i, n)) / (n * n)).astype(np.float32)
     return WaterLayer(index=np.asarray(index, np.intp), up=up.astype(np.float32), weight=weight.astype(np.float32))

@@ -46,9 +46,20 @@ def median_cut_kmeans(rgb8: np.ndarray, colours: int = 256, iterations: int = 10
     centres, _ = kmeans2(fit, seed, iter=iterations, minit="matrix", missing="warn") if len(seed) == colours \
         else (seed, None)
     centres = np.clip(np.rint(centres), 0, 255)
-    labels, _ = vq(pixels, centres)
+    # a frame repeats its colours: find each distinct colour's nearest centre once
+    keys, inverse = np.unique(_pack(np.asarray(rgb8, np.uint8).reshape(-1, 3)), return_inverse=True)
+    labels, _ = vq(_unpack(keys).astype(float), centres)
     palette = centres.astype(np.uint8)
-    return palette, palette[labels].reshape(np.shape(rgb8))
+    return palette, palette[labels[inverse.reshape(-1)]].reshape(np.shape(rgb8))
+
+
+def _pack(rgb8) -> np.ndarray:
+    rgb8 = np.asarray(rgb8, np.int64)
+    return (rgb8[..., 0] << 16) | (rgb8[..., 1] << 8) | rgb8[..., 2]
+
+
+def _unpack(keys) -> np.ndarray:
+    return np.stack([(keys >> 16) & 255, (keys >> 8) & 255, keys & 255], axis=-1).astype(np.uint8)
 
 
 def code_group_palette(display_linear: np.ndarray, codes: np.ndarray):
@@ -63,16 +74,26 @@ def code_group_palette(display_linear: np.ndarray, codes: np.ndarray):
 
 
 def delta_e_2000(rgb8_a: np.ndarray, rgb8_b: np.ndarray) -> np.ndarray:
-    """CIEDE2000 between two sRGB images (uint8 or encoded floats in [0, 1]), per pixel."""
+    """CIEDE2000 between two sRGB images of bytes (uint8), per pixel.
+
+    Computed once per distinct pair of colours (a frame repeats its colours
+    many times) and spread back over the pixels.
+    """
     import colour
 
-    def lab(x):
-        x = np.asarray(x)
-        enc = x / 255.0 if x.dtype == np.uint8 else x
-        xyz = colour.sRGB_to_XYZ(enc)          # decodes the sRGB curve, D65
+    a = np.asarray(rgb8_a, np.uint8)
+    b = np.asarray(rgb8_b, np.uint8)
+    shape = np.broadcast_shapes(a.shape, b.shape)[:-1]
+    pairs = (_pack(np.broadcast_to(a, shape + (3,))).reshape(-1) << 24) | _pack(np.broadcast_to(b, shape + (3,))).reshape(-1)
+    keys, inverse = np.unique(pairs, return_inverse=True)
+
+    def lab(rgb8):
+        xyz = colour.sRGB_to_XYZ(rgb8 / 255.0)          # decodes the sRGB curve, D65
         return colour.XYZ_to_Lab(xyz, colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"])
 
-    return np.asarray(colour.delta_E(lab(rgb8_a), lab(rgb8_b), method="CIE 2000"), dtype=float)
+    de = np.asarray(colour.delta_E(lab(_unpack(keys >> 24)), lab(_unpack(keys & 0xFFFFFF)), method="CIE 2000"),
+                    dtype=float)
+    return de[inverse.reshape(-1)].reshape(shape)
 
 
 @dataclass

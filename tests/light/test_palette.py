@@ -45,3 +45,26 @@ def test_code_group_palette_is_the_mean_per_code():
 def test_summary():
     s = QuantisationResult.summary(np.array([0.0, 0.5, 2.0, 4.0]))
     assert s["median"] == 1.25 and s["max"] == 4.0 and s["over1"] == 0.5 and s["over3"] == 0.25
+
+
+def test_delta_e_per_distinct_pair_is_per_pixel():
+    import colour
+
+    rng = np.random.default_rng(6)
+    a = rng.integers(0, 256, (40, 30, 3), dtype=np.uint8)
+    a[::2] = a[1::2]                                            # repeated colours
+    b = np.clip(a.astype(int) + rng.integers(-9, 10, a.shape), 0, 255).astype(np.uint8)
+    d65 = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
+    want = colour.delta_E(colour.XYZ_to_Lab(colour.sRGB_to_XYZ(a / 255.0), d65),
+                          colour.XYZ_to_Lab(colour.sRGB_to_XYZ(b / 255.0), d65), method="CIE 2000")
+    np.testing.assert_allclose(delta_e_2000(a, b), want, rtol=1e-12, atol=1e-12)
+
+
+def test_every_pixel_takes_its_nearest_palette_colour():
+    rng = np.random.default_rng(7)
+    img = rng.integers(0, 256, (50, 40, 3), dtype=np.uint8)
+    palette, out = median_cut_kmeans(img, colours=16)
+    d = ((img.reshape(-1, 1, 3).astype(int) - palette.astype(int)[None]) ** 2).sum(-1)
+    best = d.min(axis=1)
+    got = ((img.reshape(-1, 3).astype(int) - out.reshape(-1, 3).astype(int)) ** 2).sum(-1)
+    np.testing.assert_array_equal(got, best)
