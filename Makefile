@@ -1,47 +1,96 @@
 # sunset: `make figures` and `make test` on a fresh machine with only Python 3.
-# Each target makes .venv on first use and installs the project (editable) with
-# the extras it needs, behind stamp files that depend on pyproject.toml.
+# Each target makes .venv on first use and installs the locked environment
+# (requirements/*.lock, exact versions with hashes) and then the project
+# (editable), behind stamp files that depend on pyproject.toml and the lock.
+# Outputs are real files with real dependencies: a second `make all` with
+# nothing changed does nothing, and touching a module rebuilds what uses it.
 
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
-PIP    := $(PY) -m pip
+PIP    := $(PY) -m pip --disable-pip-version-check
+SUNSET := $(PY) -m sunset
 # Extra options for `jupyter-book build`; CI sets BOOK_EXECUTE=force.
 BOOK_EXECUTE ?= cache
+# Extra options for every `sunset figures` run of `make figures` (e.g. --quiet, --jobs 2).
+FIGURE_FLAGS ?=
+# The lock: `make lock` re-resolves it after pyproject.toml changes (keeping the
+# pins it can); `make lock LOCK_FLAGS=--upgrade` moves every pin to the newest release.
+UV_VERSION  := 0.13.8
+LOCK_PYTHON := 3.11
+LOCK_FLAGS  ?=
+UV          := .venv-lock/bin/uv
+UV_COMPILE  = $(UV) pip compile pyproject.toml --universal --python-version $(LOCK_PYTHON) --generate-hashes \
+              --quiet --custom-compile-command 'make lock' $(LOCK_FLAGS)
 
-.PHONY: figures test book book-check bench bench-player clean help
+.PHONY: all figures test book book-check bench bench-player lock clean help
+.DELETE_ON_ERROR:
 
 help:
-	@echo "make figures   regenerate the paper's figures and the film into figures/"
+	@echo "make all       everything, in dependency order: the figures, the film and the book"
+	@echo "make figures   regenerate the paper's figures and the film into figures/ (only what is out of date)"
 	@echo "make test      run the test suite"
 	@echo "make book      build the Jupyter Book into book/_build/html (BOOK_EXECUTE=force re-runs every chapter)"
 	@echo "make book-check  open every page of the built book in headless Chromium and check it"
 	@echo "make bench     time the renderer (writes figures/bench.json)"
-	@echo "make bench-player  time the colour-table player's frames in headless Chromium (figures/player-bench.json)"
-	@echo "make clean     remove the venv, builds and generated figures"
+.PHONY: all figures test book book-check bench bench-player lock clean help
+.DELETE_ON_ERROR:
 
+# ---------------------------------------------------------------- the environment
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
 
-$(VENV)/.stamp-test: pyproject.toml | $(VENV)/bin/python
-	$(PIP) install --quiet --disable-pip-version-check -e '.[test]'
+$(VENV)/.stamp-test: pyproject.toml requirements/test.lock | $(VENV)/bin/python
+	$(PIP) install --quiet --require-hashes -r requirements/test.lock
+	$(PIP) install --quiet --no-deps -e .
 	touch $@
 
-$(VENV)/.stamp-book: pyproject.toml $(VENV)/.stamp-test
-	$(PIP) install --quiet --disable-pip-version-check -e '.[test,book]'
+$(VENV)/.stamp-book: pyproject.toml requirements/book.lock $(VENV)/.stamp-test
+	$(PIP) install --quiet --require-hashes -r requirements/book.lock
 	touch $@
 
-figures: $(VENV)/.stamp-test
-	$(PY) -m sunset figures --out figures
+$(UV):
+	$(PYTHON) -m venv .venv-lock
+	.venv-lock/bin/python -m pip install --quiet --disable-pip-version-check uv==$(UV_VERSION)
 
-test: $(VENV)/.stamp-test
-	$(PY) -m pytest
+lock: $(UV)
+	$(UV_COMPILE) --extra test --extra book -o requirements/book.lock
+	$(UV_COMPILE) --extra test -c requirements/book.lock -o requirements/test.lock
+	$(UV_COMPILE) -c requirements/book.lock -o requirements/runtime.lock
 
+# ---------------------------------------------------------------- figures and film
+# One rule per file in figures/, with the package modules its builder imports
+# (found by sunset/figures/deps.py, regenerated whenever a source changes).
+FIGURE_ENV := $(VENV)/.stamp-test
+SOURCES    := $(shell find sunset -name '*.py' -o -name '*.toml')
+
+figures/.deps.mk: $(SOURCES)
+	@$(PYTHON) sunset/figures/deps.py figures > $@.tmp && mv $@.tmp $@
+
+-include figures/.deps.mk
+
+figures: $(FIGURE_FILES)
+
+# ---------------------------------------------------------------- the book
+BOOK_SOURCES := $(wildcard book/*.md book/*.yml book/*.bib book/*.py book/images/* book/data/*) $(SOURCES)
+BOOK_STAMP   := book/_build/html/.stamp
+
+$(BOOK_STAMP): $(BOOK_SOURCES) $(VENV)/.stamp-book
+	$(PY) book/build.py --execute $(BOOK_EXECUTE)
+	touch $@
+
+# `make book` always builds (the execution cache keeps it quick); `make all` only when a source changed.
 book: $(VENV)/.stamp-book
 	$(PY) book/build.py --execute $(BOOK_EXECUTE)
+	touch $(BOOK_STAMP)
 
 book-check: $(VENV)/.stamp-book
 	$(PY) book/browser_check.py book/_build/html
+
+all: figures $(BOOK_STAMP)
+
+test: $(VENV)/.stamp-test
+	$(PY) -m pytest
 
 bench: $(VENV)/.stamp-test
 	$(PY) -m sunset.bench --out figures/bench.json
@@ -51,4 +100,5 @@ bench-player: $(VENV)/.stamp-test
 	$(PY) book/browser_check.py --player-bench figures/player.html --out figures/player-bench.json
 
 clean:
-	rm -rf $(VENV) book/_build figures/*.png figures/*.mp4 figures/*.gif figures/*.webp figures/*.json figures/*.html .pytest_cache
+.PHONY: all figures test book book-check bench bench-player lock clean help
+.DELETE_ON_ERROR:

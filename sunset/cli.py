@@ -35,11 +35,24 @@ EXAMPLES = {
   sunset player carlas-island -o carla.html         # open carla.html in a browser, no network needed
   sunset player my.toml -o my.html --frames 16 --size 320x320 --from-hours 3 --to-hours -0.25""",
     "scene": """examples:
-  sunset scene > my.toml""",
+  sunset scene > my.toml
+  sunset scene storm-swell > storm.toml     # any packaged scene (sunset scene --list names them)""",
+    "info": """examples:
+  sunset info                         # the versions every output records, and the settings in force""",
     "export": """examples:
   sunset export pov carlas-island -o scene.pov && povray +Iscene.pov +W1020 +H1023 -A +FN
   sunset export pov my.toml --time 1.5 --size 320x320 -o scene.pov""",
 }
+
+#: The environment variables the command line reads, shown by ``sunset --help`` and the README.
+ENVIRONMENT = """environment variables:
+  SUNSET_WORKERS=N    processes that render a film's frames when --jobs is not given
+                      (default: every CPU this process may use)
+  SUNSET_COMPILED=0   render with the NumPy kernels instead of the compiled (Numba)
+                      twins; the results are bit-identical, only slower
+
+Progress bars are drawn only when stderr is a terminal; --quiet turns them
+and the log lines off. `sunset info` prints the versions every output records."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -132,23 +145,26 @@ def _seed(text: str) -> int:
 
 
 def _load_scene(arg: str):
-    from .model.scene import Scene, load_named_scene
+    from .model.scene import as_scene
 
-    path = Path(arg)
-    if not path.exists() and "/" not in arg and not arg.endswith(".toml"):
-        return load_named_scene(arg)
-    return Scene.from_toml(path)
+    return as_scene(arg)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="sunset", description="Nelson Max's 1981 'Waves and Islands in the Sunset', reproduced.")
+    parser = _Parser(prog="sunset", description="Nelson Max's 1981 'Waves and Islands in the Sunset', reproduced.",
+                     epilog=ENVIRONMENT, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"sunset {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
-    def add(name, help_):
-        return sub.add_parser(name, help=help_, description=help_, epilog=EXAMPLES[name],
-                              formatter_class=argparse.RawDescriptionHelpFormatter)
+    def add(name, help_, quiet="print nothing but errors"):
+        epilog = EXAMPLES[name] + ("\n\n" + ENVIRONMENT if name in ("figures", "render", "film") else "")
+        p = sub.add_parser(name, help=help_, description=help_, epilog=epilog,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        p.add_argument("-q", "--quiet", action="store_true", help=quiet)
+        return p
+
+    jobs_help = "processes that render frames (default: $SUNSET_WORKERS, else every CPU this process may use)"
 
     p = add("figures", "Write the paper's figures, diagnostics and the film (what `make figures` runs).")
     p.add_argument("--out", default="figures", help="output folder (default: figures)")
@@ -156,7 +172,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--size", type=_size, help="size of Figures 4–7 and the film, WxH (default 1020x1023)")
     p.add_argument("--seed", type=_seed, default=0, help="dither seed (default 0)")
     p.add_argument("--frames", type=_count, default=32, help="frames per wave cycle in the film (default 32)")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.add_argument("-j", "--jobs", type=_count, help=jobs_help)
 
     p = add("render", "Render one frame of a scene to PNG (and optionally its tape).")
     p.add_argument("scene", help="scene TOML file (or the name of a packaged scene, e.g. carlas-island)")
@@ -190,8 +206,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="output MP4")
     p.add_argument("--preview", help="also write a small looping preview here (.gif or .webp)")
     p.add_argument("--tape", help="also write the cycle's tape here")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
     _shading_options(p)
+    p.add_argument("-j", "--jobs", type=_count, help=jobs_help)
 
     p = add("player", "Write the colour-table player: one wave cycle and an afternoon of colour tables in one "
                       "self-contained HTML file.")
@@ -204,9 +220,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--to-hours", type=_number, default=-0.25, help="hours before sunset at its end (default -0.25)")
     p.add_argument("--reflections", type=int, choices=(0, 1, 2), default=2)
     p.add_argument("--seed", type=_seed, default=0)
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
-    add("scene", "Print the default scene as TOML, to start a scene file from.")
+    p = add("scene", "Print a scene as TOML (the default: Carla's Island), to start a scene file from.")
+    p.add_argument("name", nargs="?", help="a packaged scene (default: carlas-island)")
+    p.add_argument("--list", action="store_true", help="list the packaged scenes instead")
+
+    add("info", "Print the versions every output records (sunset, Python, NumPy, Numba, colour-science), "
+                "the kernels in use and the settings.")
 
     p = add("export", "Write a scene for another renderer: POV-Ray 3.7 (sea and islands as isosurfaces).")
     p.add_argument("format", choices=("pov",), help="pov: a POV-Ray 3.7 scene file")
@@ -222,7 +242,7 @@ def _cmd_figures(args) -> None:
 
     make_figures(args.out, only=args.only, size=args.size, seed=args.seed,
                  progress=not args.quiet, log=(lambda *_: None) if args.quiet else
-                 (lambda msg: print(msg, file=sys.stderr)), film_frames=args.frames)
+                 (lambda msg: print(msg, file=sys.stderr)), film_frames=args.frames, workers=args.jobs)
 
 
 def _cmd_render(args) -> None:
@@ -289,7 +309,7 @@ def _cmd_film(args) -> None:
         return
     make_film(scene, args.output, args.preview, frames=args.frames, from_hours=args.from_hours,
               to_hours=args.to_hours, reflections=args.reflections, seed=args.seed, fps=args.fps,
-              tape_path=args.tape, progress=not args.quiet)
+              tape_path=args.tape, progress=not args.quiet, workers=args.jobs)
 
 
 def _cmd_player(args) -> None:
@@ -317,9 +337,12 @@ def _rgb_film(scene, args, samples: int) -> None:
 
 
 def _cmd_scene(args) -> None:
-    from .model.scene import Scene
+    from .model.scene import DEFAULT_SCENE, load_named_scene, scene_names
 
-    sys.stdout.write(Scene.default().to_toml())
+    if args.list:
+        sys.stdout.write("".join(f"{name}\n" for name in scene_names()))
+        return
+    sys.stdout.write(load_named_scene(args.name or DEFAULT_SCENE).to_toml())
 
 
 def _cmd_export(args) -> None:
@@ -333,8 +356,20 @@ def _cmd_export(args) -> None:
     write_bytes(args.output, pov_scene(scene, args.time).encode("utf-8"))
 
 
-COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expose, "film": _cmd_film, "player": _cmd_player,
-            "scene": _cmd_scene, "export": _cmd_export}
+
+def _cmd_info(args) -> None:
+    from .provenance import environment, info_text
+    from .tape.cycle import frame_workers, usable_cpus
+
+    env = environment()
+    env["usable cpus"] = str(usable_cpus())
+    env["frame workers"] = f"{frame_workers(frames=2**31)} (--jobs, else SUNSET_WORKERS, else the usable cpus)"
+    sys.stdout.write(info_text(env))
+
+
+COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expose, "film": _cmd_film,
+            "player": _cmd_player, "scene": _cmd_scene, "export": _cmd_export,
+            "info": _cmd_info}
 
 
 # Options that take a value which may look like an option ("--size -5x10",
@@ -342,7 +377,7 @@ COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expos
 # say only "expected one argument"; joined as "--size=-5x10" the value reaches
 # its parser, which says what is wrong with it.
 _VALUE_OPTIONS = frozenset({"--size", "--time", "--hours", "--from-hours", "--to-hours", "--frames",
-                            "--seed", "--fps", "--frame", "--reflections", "--samples", "--depth"})
+                            "--seed", "--fps", "--frame", "--reflections", "--samples", "--depth", "--jobs", "-j"})
 
 
 def _join_values(argv: list[str]) -> list[str]:

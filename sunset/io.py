@@ -98,10 +98,16 @@ def save_matplotlib(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
 
     Figures are made with ``matplotlib.figure.Figure`` rather than pyplot, so
     nothing global (the backend, pyplot's list of open figures) is touched and
-    nothing needs closing.
+    nothing needs closing. The PNG records the versions that made it
+    (``sunset:provenance``, as every PNG of the package), and not matplotlib's
+    own ``Software`` line.
     """
+    from . import __version__
+    from .provenance import provenance_json
+
     check_writable(path, PNG_SUFFIXES)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
+    fig.savefig(buf, format="png", dpi=dpi,
+                metadata={"Software": f"sunset {__version__}", "sunset:provenance": provenance_json()})
     write_bytes(path, buf.getvalue())
     return Path(path)

@@ -97,9 +97,9 @@ def test_pyproject_and_environment_agree():
     assert not problems, "pyproject.toml and environment.yml disagree:\n" + "\n".join(problems)
 
 
-def test_environment_is_named_sunset_and_lists_everything():
+def test_environment_is_named_after_the_distribution_and_lists_everything():
     reqs, python, name = environment_requirements(ENVIRONMENT)
-    assert name == "sunset"
+    assert name == tomllib.loads(PYPROJECT)["project"]["name"] == "sunset-waves"
     assert python is not None
     names = {n for n, _ in reqs}
     for needed in ("numpy", "scipy", "matplotlib", "colour-science", "pillow", "imageio",
@@ -132,14 +132,15 @@ def test_a_disagreement_in_pyproject_is_caught():
     assert any("pytest-xdist" in p for p in disagreements(edited, ENVIRONMENT))
 
 
-def test_makefile_installs_extras_that_exist():
+def test_makefile_installs_the_locks_of_extras_that_exist():
+    """The Makefile installs the locked environments; `make lock` compiles them from extras that exist."""
     makefile = (ROOT / "Makefile").read_text(encoding="utf-8")
     extras = set(tomllib.loads(PYPROJECT)["project"]["optional-dependencies"])
-    used = set()
-    for group in re.findall(r"-e '\.\[([\w,]+)\]'", makefile):
-        used.update(group.split(","))
+    used = set(re.findall(r"--extra (\w+)", makefile))
     assert used and used <= extras
     assert set(EXTRAS) <= used
-    # The stamps depend on pyproject.toml, so a change of dependencies reinstalls.
-    assert re.search(r"^\$\(VENV\)/\.stamp-test: pyproject\.toml", makefile, re.M)
-    assert re.search(r"^\$\(VENV\)/\.stamp-book: pyproject\.toml", makefile, re.M)
+    assert "--require-hashes -r requirements/test.lock" in makefile
+    assert "--require-hashes -r requirements/book.lock" in makefile
+    # The stamps depend on pyproject.toml and the lock, so a change of dependencies reinstalls.
+    assert re.search(r"^\$\(VENV\)/\.stamp-test: pyproject\.toml requirements/test\.lock", makefile, re.M)
+    assert re.search(r"^\$\(VENV\)/\.stamp-book: pyproject\.toml requirements/book\.lock", makefile, re.M)

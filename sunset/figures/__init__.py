@@ -44,7 +44,7 @@ def parse_only(text: str | None) -> list[str]:
 
 
 def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 32,
-                progress: bool = True) -> list[Path]:
+                progress: bool = True, workers: int | None = None) -> list[Path]:
     """Make one figure of ``scene`` (at its camera's size) into ``out``; returns the files written."""
     out = Path(out)
     if name == "1":
@@ -81,14 +81,18 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
     if name == "film":
         from ..recorder.film import make_film
         return list(make_film(scene, out / "film.mp4", out / "film-preview.webp", frames=film_frames,
-                              seed=seed, progress=progress))
+                              seed=seed, progress=progress, workers=workers))
     raise SunsetError(f"unknown figure {name!r}")  # pragma: no cover - parse_only guards
 
 
 def make_figures(out: str | Path = "figures", only: str | None = None, size: tuple[int, int] | None = None,
                  seed: int = 0, scene=None, progress: bool = True, log=print,
-                 film_frames: int = 32) -> list[Path]:
-    """Make the figures named by ``only`` (all by default) into ``out``."""
+                 film_frames: int = 32, workers: int | None = None) -> list[Path]:
+    """Make the figures named by ``only`` (all by default) into ``out``.
+
+    ``workers`` processes render the film's frames (default: ``$SUNSET_WORKERS``
+    or every usable CPU, :func:`sunset.tape.cycle.frame_workers`).
+    """
     from ..model.scene import Scene
 
     names = parse_only(only)
@@ -105,7 +109,8 @@ def make_figures(out: str | Path = "figures", only: str | None = None, size: tup
     written = []
     for name in names:
         start = time.perf_counter()
-        files = make_figure(name, out, scene, seed=seed, progress=progress, film_frames=film_frames)
+        files = make_figure(name, out, scene, seed=seed, progress=progress, film_frames=film_frames,
+                            workers=workers)
         written += files
         log(f"{FIGURES[name][1]}: {', '.join(str(f) for f in files)} ({time.perf_counter() - start:.1f} s)")
     return written

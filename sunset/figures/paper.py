@@ -48,11 +48,14 @@ PAPER_FIGURES = {
 
 
 def png_metadata(scene: Scene, settings: dict) -> dict[str, str]:
-    """Provenance written into every PNG: the scene, the settings, the version."""
+    """Provenance written into every PNG: the scene, the settings, the versions (:mod:`sunset.provenance`)."""
+    from ..provenance import provenance_json
+
     return {
         "Software": f"sunset {__version__}",
         "sunset:settings": json.dumps(settings, sort_keys=True),
         "sunset:scene": scene.to_toml(),
+        "sunset:provenance": provenance_json(),
     }
 
 

@@ -37,19 +37,23 @@ from .waves import unit_normal
 
 @dataclass(frozen=True)
 class Cosine:
-    """One rolling-hill term a cos(ℓx + my) of eq. 4.
+    """One rolling-hill term a cos(ℓx + my + φ) of eq. 4.
 
-    amplitude in metres (>= 0); l, m in rad m⁻¹.
+    amplitude in metres (>= 0); l, m in rad m⁻¹; phase φ in radians (the
+    paper's terms have φ = 0, the default; φ = π turns hills into hollows,
+    as a negative amplitude would).
     """
 
     amplitude: float
     l: float
     m: float
+    phase: float = 0.0
 
     def __post_init__(self):
         require_nonnegative("amplitude", self.amplitude)
         require_finite("l", self.l)
         require_finite("m", self.m)
+        require_finite("phase", self.phase)
 
 
 @dataclass(frozen=True)
@@ -209,7 +213,7 @@ class Island:
         return par.value(x - self.x, y - self.y)
 
     def cliff_equation(self, x, y):
-        """Q_k(x, y) = P_k + Σ_j a_jk cos(ℓ_jk x + m_jk y) (eq. 4), metres."""
+        """Q_k(x, y) = P_k + Σ_j a_jk cos(ℓ_jk x + m_jk y + φ_jk) (eq. 4 with a phase), metres."""
         x, y = _xy(x, y)
         return self._cliff_value(x, y, self._phases(x, y))
 
@@ -219,8 +223,8 @@ class Island:
         return self._cliff_gradient(x, y, self._phases(x, y))
 
     def _phases(self, x, y) -> list:
-        """ℓ_jk x + m_jk y of each cosine term."""
-        return [c.l * x + c.m * y for c in self.cosines]
+        """ℓ_jk x + m_jk y + φ_jk of each cosine term (φ = 0 adds nothing, bit for bit)."""
+        return [c.l * x + c.m * y + c.phase if c.phase else c.l * x + c.m * y for c in self.cosines]
 
     def _cliff_value(self, x, y, phases):
         q = self.cliff.value(x - self.x, y - self.y)

@@ -4,9 +4,11 @@ A scene file has four parts, each checked on load::
 
     [camera]          eye height, picture window, size, σ   (sunset.model.camera.Camera)
     [sun]             the sun's great circle and δ           (sunset.model.sun.Sun)
+    [sea]             gravity (optional, m s⁻²; standard gravity by default)
     [[sea.trains]]    the wave trains of eq. 1               (sunset.model.waves.WaveTrain)
     [[islands]]       paraboloids and cosine hills, eqs. 3–4 (sunset.model.islands.Island)
                       with [islands.cliff], [islands.beach], [[islands.cosines]]
+                      (a cosine's ``phase`` is optional, 0 by default)
     [clouds]          optional: a cloud layer, its mean level and [[clouds.cells]]
                       with [[clouds.cells.billows]]   (sunset.model.clouds.Clouds)
     [[posts]]         optional: posts standing in the water  (sunset.model.posts.Post)
@@ -21,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import tomllib
 import typing
 from dataclasses import dataclass, field, replace
@@ -40,7 +43,7 @@ from .waves import Sea, WaveTrain
 DEFAULT_SCENE = "carlas-island"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Scene:
     """Everything the vector stage needs to render a frame at time t."""
 
@@ -66,6 +69,14 @@ class Scene:
         if self.clouds is not None and self.clouds.base <= h:
             raise SunsetError(f"clouds: the eye ({h:g} m) must be below the cloud base "
                               f"({self.clouds.base:g} m: the level less the deepest cloud)")
+
+    def __repr__(self) -> str:
+        cam = self.camera
+        title = f"{self.title!r}, " if self.title else ""
+        n = len(self.islands)
+        clouds = ", clouds" if getattr(self, "clouds", None) is not None else ""
+        return (f"Scene({title}{cam.width}×{cam.height}, {self.sea!r}, {n} island{'s' * (n != 1)}{clouds}, "
+                f"sun tilt {self.sun.tilt:g}°)")
 
     # -- derived scenes -------------------------------------------------------
     def still(self) -> "Scene":
@@ -126,13 +137,50 @@ class Scene:
         """The default scene, ``sunset/scenes/carlas-island.toml``."""
         return load_named_scene(DEFAULT_SCENE)
 
+    @classmethod
+    def named(cls, name: str) -> "Scene":
+        """A scene shipped in ``sunset/scenes/``, by name (e.g. ``"storm-swell"``; see :func:`scene_names`)."""
+        return load_named_scene(name)
+
+
+def scene_names() -> list[str]:
+    """The names of the scenes shipped in ``sunset/scenes/``, sorted (``Scene.named`` loads one)."""
+    folder = resources.files("sunset") / "scenes"
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
 
 def load_named_scene(name: str) -> Scene:
     """Load a scene shipped in ``sunset/scenes/`` by name (without .toml)."""
+    if not isinstance(name, str) or name not in scene_names():
+        raise SunsetError(f"no scene named {name!r} in the package (packaged scenes: {', '.join(scene_names())})")
     ref = resources.files("sunset") / "scenes" / f"{name}.toml"
-    if not ref.is_file():
-        raise SunsetError(f"no scene named {name!r} in the package")
-    return Scene.from_toml(ref.read_text(encoding="utf-8"))
+    try:
+        return Scene.from_toml(ref.read_text(encoding="utf-8"))
+    except SunsetError as exc:   # pragma: no cover - tests load every packaged scene
+        raise SunsetError(f"packaged scene {name}: {exc}") from None
+
+
+#: What the public functions accept for a scene: a Scene, a packaged scene's name, or a scene TOML file.
+SceneLike = typing.Union[Scene, str, os.PathLike[str]]
+
+
+def as_scene(scene: SceneLike) -> Scene:
+    """A :class:`Scene` from a scene, the name of a packaged scene, or a scene TOML file.
+
+    What every public function that takes a scene accepts: ``"storm-swell"``
+    is the packaged scene of that name; any other string or path is a file.
+    """
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, str) and scene in scene_names():
+        return load_named_scene(scene)
+    if isinstance(scene, (str, os.PathLike)):
+        path = Path(scene)
+        if not path.exists() and isinstance(scene, str) and "/" not in scene and not scene.endswith(".toml"):
+            raise SunsetError(f"no scene named {scene!r} in the package and no such file "
+                              f"(packaged scenes: {', '.join(scene_names())})")
+        return Scene.from_toml(path)
+    raise SunsetError(f"expected a Scene, the name of a packaged scene or a scene file, got {scene!r}")
 
 
 def default_scene() -> Scene:
@@ -154,7 +202,7 @@ _NESTED = {
 
 def _field_types(cls) -> dict[str, typing.Any]:
     hints = typing.get_type_hints(cls)
-    return {f.name: hints[f.name] for f in dataclasses.fields(cls)}
+    return {name: hints[name] for name in _file_fields(cls)}
 
 
 #: Fields a scene file may leave out (they take their defaults); every other
@@ -163,7 +211,20 @@ _OPTIONAL = {
     (Scene, "title"), (Scene, "sea"), (Scene, "islands"), (Sea, "trains"),
     (WaveTrain, "phase"), (WaveTrain, "stokes_order"), (Island, "name"), (Island, "cosines"),
     (Scene, "clouds"), (CloudCell, "billows"), (Scene, "posts"), (Post, "albedo"),
+    (Sea, "gravity"), (Cosine, "phase"),
 }
+
+#: Fields added after the file format's first version: written out only when
+#: they differ from their defaults, so that every earlier scene's TOML (and the
+#: PNGs and tapes that embed it) stays byte for byte what it was.
+_WRITTEN_WHEN_SET = {(Sea, "gravity"), (Cosine, "phase")}
+
+#: Fields a scene file does not have: a train's gravity is its sea's.
+_NOT_IN_FILE = {(WaveTrain, "gravity")}
+
+
+def _file_fields(cls) -> dict[str, dataclasses.Field]:
+    return {f.name: f for f in dataclasses.fields(cls) if (cls, f.name) not in _NOT_IN_FILE}
 
 
 def _required(cls, f: dataclasses.Field) -> bool:
@@ -195,7 +256,7 @@ def _convert(value, typ, where: str):
 def _build(cls, data, path: str):
     if not isinstance(data, dict):
         raise SunsetError(f"{path or 'scene'} must be a table, got {data!r}")
-    fields = {f.name: f for f in dataclasses.fields(cls)}
+    fields = _file_fields(cls)
     unknown = sorted(set(data) - set(fields))
     if unknown:
         raise SunsetError(f"unknown key {_join(path, unknown[0])!r}" + (f" (expected one of: {', '.join(fields)})"))
@@ -233,9 +294,12 @@ def _build(cls, data, path: str):
 def _unbuild(obj):
     if dataclasses.is_dataclass(obj):
         out = {}
-        for f in dataclasses.fields(obj):
+        cls = type(obj)
+        for f in _file_fields(cls).values():
             v = getattr(obj, f.name)
             if v is None:                      # an optional part left out (a scene without clouds)
+                continue
+            if (cls, f.name) in _WRITTEN_WHEN_SET and v == f.default:
                 continue
             if isinstance(v, tuple):
                 out[f.name] = [_unbuild(x) for x in v]

@@ -4,7 +4,9 @@ A wave train is a long-crested travelling cosine
 
     z = a cos θ,   θ = ℓx + my − ωt + φ,   ℓ² + m² = k²,   ω = √(g k)
 
-(deep-water dispersion: the phase speed is c = ω/k = √(g/k)). The sea is
+(deep-water dispersion: the phase speed is c = ω/k = √(g/k)). The sea's
+gravity g is standard gravity unless a scene sets ``[sea] gravity`` (3.71 on
+Mars): the sea owns it, and every train of a sea carries the sea's value. The sea is
 their sum about the mean level (eq. 1, without the −h, which belongs to the
 camera). A train may carry Stokes harmonics n = 2..4 (eq. 2):
 a_n cos nθ, which travel with the train, so that harmonic n has frequency nω.
@@ -27,7 +29,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 import numpy as np
@@ -59,6 +61,9 @@ class WaveTrain:
     stokes_order : int
         1 for a pure cosine; 2..4 adds the paper's Stokes harmonics up to that
         order (the paper used 2 on its largest wave).
+    gravity : float
+        g, m s⁻² (> 0), in ω = √(g k); standard gravity by default. A
+        :class:`Sea` gives its trains its own gravity.
     """
 
     amplitude: float
@@ -66,6 +71,7 @@ class WaveTrain:
     direction: float = 90.0
     phase: float = 0.0
     stokes_order: int = 1
+    gravity: float = GRAVITY
 
     def __post_init__(self):
         require_nonnegative("amplitude", self.amplitude)
@@ -76,6 +82,7 @@ class WaveTrain:
         require_finite("direction", self.direction)
         require_finite("phase", self.phase)
         require_int_range("stokes_order", self.stokes_order, 1, 4)
+        require_positive("gravity", self.gravity)
 
     @property
     def k(self) -> float:
@@ -91,7 +98,7 @@ class WaveTrain:
     @property
     def omega(self) -> float:
         """Angular frequency ω = √(g k) (deep-water dispersion), rad s⁻¹."""
-        return math.sqrt(GRAVITY * self.k)
+        return math.sqrt(self.gravity * self.k)
 
     @property
     def speed(self) -> float:
@@ -166,22 +173,49 @@ def _harmonics(theta: np.ndarray, n_max: int):
         yield n, cn, sn
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Sea:
-    """A sum of wave trains about mean sea level (eq. 1 without −h)."""
+    """A sum of wave trains about mean sea level (eq. 1 without −h).
+
+    Parameters
+    ----------
+    trains : sequence of WaveTrain
+    gravity : float
+        g, m s⁻², of the deep-water dispersion ω = √(g k) of every train;
+        standard gravity by default. Each train takes it: a train built with
+        another non-default gravity is an error.
+    """
 
     trains: tuple[WaveTrain, ...] = field(default_factory=tuple)
+    gravity: float = GRAVITY
 
     def __post_init__(self):
+        require_positive("gravity", self.gravity)
         trains = tuple(self.trains)
         for i, t in enumerate(trains):
             if not isinstance(t, WaveTrain):
                 raise SunsetError(f"trains[{i}] must be a WaveTrain, got {t!r}")
+            if t.gravity not in (GRAVITY, self.gravity):
+                raise SunsetError(f"trains[{i}].gravity is {t.gravity!r} but the sea's gravity is {self.gravity!r}: "
+                                  f"set gravity on the sea, which gives it to every train")
+        if self.gravity != GRAVITY:
+            trains = tuple(t if t.gravity == self.gravity else replace(t, gravity=self.gravity) for t in trains)
         object.__setattr__(self, "trains", trains)
+
+    def __repr__(self) -> str:
+        moving = [t for t in self.trains if t.amplitude > 0]
+        if not moving:
+            return "Sea(still)"
+        lams = [t.wavelength for t in moving]
+        period = self.period
+        cycle = "never repeats" if period is None else f"period {period:.3g} s"
+        g = "" if self.gravity == GRAVITY else f", g = {self.gravity:g} m/s²"
+        return (f"Sea({len(self.trains)} train{'s' * (len(self.trains) != 1)}, λ {min(lams):.3g}–{max(lams):.3g} m, "
+                f"{cycle}{g})")
 
     @classmethod
     def periodic(cls, wavelength: float, amplitudes, directions, phases=None, stokes_orders=None,
-                 harmonics=None) -> "Sea":
+                 harmonics=None, gravity: float = GRAVITY) -> "Sea":
         """A sea whose trains have wavelengths λ/n², so every ω is n ω₁.
 
         Since ω = √(g k) and k = 2π n²/λ, train n has ω_n = n ω₁ exactly, and
@@ -199,6 +233,8 @@ class Sea:
             Ones by default.
         harmonics : sequence of int, optional
             n >= 1 for each train; 1, 2, 3, … by default, giving λ, λ/4, λ/9, ….
+        gravity : float
+            g, m s⁻² (standard gravity by default).
         """
         require_positive("wavelength", wavelength)
         n_trains = len(amplitudes)
@@ -210,13 +246,13 @@ class Sea:
         for i, n in enumerate(harmonics):
             require_int_range(f"harmonics[{i}]", n, 1)
         return cls(tuple(
-            WaveTrain(a, wavelength / n**2, d, p, s)
+            WaveTrain(a, wavelength / n**2, d, p, s, gravity)
             for a, d, p, s, n in zip(amplitudes, directions, phases, stokes_orders, harmonics)
-        ))
+        ), gravity)
 
     @property
     def max_elevation(self) -> float:
-        """d = Σ_j Σ_n |a_jn|: the most the sea can depart from its mean level, metres."""
+        """d = Σ_j Σ_n ``|a_jn|``: the most the sea can depart from its mean level, metres."""
         return float(sum(t.max_elevation for t in self.trains))
 
     @property

@@ -28,6 +28,7 @@ from ..constants import SUN_SUPERSAMPLE
 from ..errors import SunsetError, require_finite
 from ..kernels import row_strips, run_strips
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
+from ..model.scene import SceneLike, as_scene
 from ..model.sun import Sun
 from ..tape.codes import code_map
 from .colour_tables import sun_colour, tables
@@ -112,13 +113,14 @@ def sun_coverage(camera, sun: Sun, hours: float, supersample: int = SUN_SUPERSAM
 
 
 # --------------------------------------------------------------------------- exposing
-def expose(scene, codes, hours: float) -> np.ndarray:
+def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
     """Expose one frame of codes: three passes through the tables, then the sun's disk.
 
     Parameters
     ----------
-    scene : Scene
-        Only its camera (raster position → direction) and its sun are used.
+    scene : Scene, str or path
+        Only its camera (raster position → direction) and its sun are used (a
+        packaged scene's name or a scene file also do).
     codes : ndarray (H, W) uint8
         One frame of the tape.
     hours : float
@@ -129,6 +131,7 @@ def expose(scene, codes, hours: float) -> np.ndarray:
     ndarray (H, W, 3) uint8
         sRGB image.
     """
+    scene = as_scene(scene)
     require_finite("hours", hours)
     codes = np.asarray(codes)
     cam = scene.camera

@@ -29,6 +29,8 @@ from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_FPS, MAX_T
 from ..errors import SunsetError, require_finite, require_int_range
 from ..tape.tapefile import Tape, write_tape
 
+from ..model.scene import SceneLike
+
 __all__ = ["cycle_times", "render_cycle", "film_hours", "film_frames", "write_film", "write_video", "make_film",
            "FILM_CYCLES", "PREVIEW_WIDTH", "PREVIEW_FRAMES"]
 
@@ -52,11 +54,41 @@ _X264_PARAMS = ["-preset", "ultrafast", "-crf", "18", "-threads", "2", "-x264-pa
 FILM_AHEAD = 4
 FILM_EXPOSERS = 2
 
+#: The film's colours: sRGB frames converted to Y'CbCr with the BT.709 matrix
+#: (video range) and tagged BT.709 (primaries, transfer, matrix), so that a
+#: player decodes them with the matrix they were encoded with (untagged, many
+#: assume BT.601 and shift the colours); the index (moov) goes first
+#: (+faststart), so the film plays while it downloads.
+_BT709 = ["-vf", "scale=out_color_matrix=bt709:out_range=tv,"
+                 "setparams=color_primaries=bt709:color_trc=bt709:colorspace=bt709:range=tv",
+          "-color_primaries", "bt709", "-color_trc", "bt709", "-colorspace", "bt709", "-color_range", "tv",
+          "-movflags", "+faststart"]
+
+
+def _film_params() -> list[str]:
+    """ffmpeg's output options for the film: x264, BT.709, +faststart, and the provenance as its comment."""
+    from ..provenance import provenance_json
+
+    return _X264_PARAMS + _BT709 + ["-metadata", f"comment={provenance_json()}"]
+
+
+def _mp4_writer(path, size: tuple[int, int], fps: int):
+    """An started ffmpeg writer of (H, W, 3) uint8 sRGB frames to an MP4 (see :data:`_BT709`); ``.close()`` it."""
+    import imageio_ffmpeg
+
+    writer = imageio_ffmpeg.write_frames(str(path), size, fps=fps, codec="libx264", pix_fmt_in="rgb24",
+                                         pix_fmt_out="yuv420p", quality=None, macro_block_size=1,
+                                         ffmpeg_log_level="error", output_params=_film_params())
+    writer.send(None)
+    return writer
+
 
 def _bar(total: int, desc: str, progress: bool):
+    """A progress bar on stderr, drawn only when stderr is a terminal (a log file gets none)."""
     from tqdm import tqdm
 
-    return tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=not progress, leave=False)
+    shown = progress and sys.stderr is not None and sys.stderr.isatty()
+    return tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=not shown, leave=False)
 
 
 def cycle_times(scene, frames: int) -> np.ndarray:
@@ -90,9 +122,9 @@ def render_cycle(scene, frames: int, reflections: int = 2, seed: int = 0, progre
     seed : int
         Dither seed, reset for every frame.
     progress : bool
-        Show a progress bar on stderr.
+        Show a progress bar on stderr (when it is a terminal).
     workers : int, optional
-        Processes to use; default ``$SUNSET_WORKERS`` or the number of CPUs (at most 2).
+        Processes to use; default ``$SUNSET_WORKERS`` or every CPU this process may use.
 
     Returns
     -------
@@ -221,11 +253,16 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
         One wave cycle of codes (from :func:`render_cycle`).
     path_mp4 : path
         The film: H.264 in MP4, yuv420p, ``fps`` frames per second (an odd
-        picture size is padded by one row or column to make it even).
+        picture size is padded by one row or column to make it even),
+        converted to and tagged BT.709, its index first (+faststart), with
+        :func:`sunset.provenance.provenance` as its ``comment``.
     path_preview : path, optional
         A small looping preview, WebP if the name ends in ``.webp`` and GIF
         otherwise: every k-th film frame (at most
-        :data:`PREVIEW_FRAMES`), ``preview_width`` pixels wide.
+        :data:`PREVIEW_FRAMES`), ``preview_width`` pixels wide. A WebP is
+        RGB: every frame is a key frame (WebP's animation encoder otherwise
+        stores the changes between frames with an alpha channel), on an
+        opaque background.
     from_hours, to_hours : float
         Hours before sunset at the first and the last film frame.
     cycles : int
@@ -256,18 +293,13 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
     (``sunset film --shading rgb``); see :func:`write_film` for the formats.
     Both files are written atomically.
     """
-    import imageio_ffmpeg
-
     from ..io import atomic_write
 
     step = max(1, -(-total // PREVIEW_FRAMES))
     preview = []
     size = (size[0] + size[0] % 2, size[1] + size[1] % 2)
     with atomic_write(path_mp4) as tmp, _bar(total, "filming", progress) as bar:
-        writer = imageio_ffmpeg.write_frames(str(tmp), size, fps=fps, codec="libx264", pix_fmt_in="rgb24",
-                                             pix_fmt_out="yuv420p", quality=None, macro_block_size=1,
-                                             ffmpeg_log_level="error", output_params=_X264_PARAMS)
-        writer.send(None)
+        writer = _mp4_writer(tmp, size, fps)
         try:
             for j, rgb in enumerate(frames):
                 writer.send(_even(rgb))
@@ -285,7 +317,8 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
         buf = io.BytesIO()
         if Path(path_preview).suffix.lower() == ".webp":
             preview[0].save(buf, format="WEBP", save_all=True, append_images=preview[1:], loop=0,
-                            duration=round(1000 * step / fps), quality=80, method=4)
+                            duration=round(1000 * step / fps), quality=80, method=4,
+                            background=(0, 0, 0, 255), kmin=0, kmax=1)
         else:
             preview[0].save(buf, format="GIF", save_all=True, append_images=preview[1:], loop=0,
                             duration=round(1000 * step / fps), optimize=False)
@@ -294,20 +327,25 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
     return written
 
 
-def make_film(scene, path_mp4: str | os.PathLike, path_preview: str | os.PathLike | None = None, frames: int = 32,
+def make_film(scene: SceneLike, path_mp4: str | os.PathLike, path_preview: str | os.PathLike | None = None,
+              frames: int = 32,
               from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, reflections: int = 2,
               seed: int = 0, fps: int = FILM_FPS, tape_path: str | os.PathLike | None = None,
-              progress: bool = True, cycles: int = FILM_CYCLES) -> list[Path]:
+              progress: bool = True, cycles: int = FILM_CYCLES, workers: int | None = None) -> list[Path]:
     """Render one cycle to a tape (optionally saved), then film it: what ``sunset film`` runs.
 
-    Returns the files written (MP4, then the preview and the tape if asked).
+    ``scene`` may be a :class:`~sunset.Scene`, a packaged scene's name or a
+    scene file. Returns the files written (MP4, then the preview and the tape
+    if asked).
     """
     from ..io import check_writable
+    from ..model.scene import as_scene
 
+    scene = as_scene(scene)
     _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps)
     if tape_path is not None:
         check_writable(tape_path)
-    tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress)
+    tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress, workers=workers)
     written = write_film(tape, path_mp4, path_preview, from_hours=from_hours, to_hours=to_hours, cycles=cycles,
                          fps=fps, progress=progress)
     if tape_path is not None:

@@ -69,6 +69,8 @@ from ..errors import SunsetError
 from ..vector.frame import Frame
 from ..model.sun import Sun
 
+from ..model.scene import SceneLike
+
 __all__ = [
     "CodeRange", "CodeMap", "CODE_MAP", "CLOUDY_CODE_MAP", "code_map", "cloud_index", "cloud_code_depths", "rho", "rho_hat", "sun_plane_angle", "island_offsets", "sky_index",
     "track_elevation_max", "elevation_index", "island_code_rho", "sky_code_z", "track_code_elevations",
@@ -333,7 +335,7 @@ def _rows(field, mask) -> np.ndarray:
     return np.take(flat, np.flatnonzero(mask), axis=0).astype(float)
 
 
-def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
+def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
     """Code every pixel of a traced frame into 8 bits (the vector stage's output).
 
     Reads only the frame's final fields: ``final_surface``, ``final_part``,
@@ -341,8 +343,9 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
 
     Parameters
     ----------
-    scene : Scene
-        Supplies the sun (U, V, W, δ) and the picture size.
+    scene : Scene, str or path
+        Supplies the sun (U, V, W, δ) and the picture size (a packaged scene's
+        name or a scene file also do).
     frame : Frame
         A frame whose reflections have been traced.
     seed : int
@@ -355,7 +358,9 @@ def encode(scene, frame: Frame, seed: int = 0) -> np.ndarray:
         Codes in the ranges of :data:`CODE_MAP`.
     """
     from ..errors import require_int_range
+    from ..model.scene import as_scene
 
+    scene = as_scene(scene)
     require_int_range("seed", seed, 0, 2**32 - 1)
     cam = scene.camera
     _check_frame(frame, (cam.height, cam.width))

@@ -44,17 +44,26 @@ def _code_frame_task(args):
         return code_frame(*args, islands=_WORKER.get("islands"))
 
 
-def frame_workers(workers: int | None = None, frames: int = 1) -> int:
-    """How many processes render frames: ``workers``, else ``$SUNSET_WORKERS``, else the CPU count (at most 2… frames).
+def usable_cpus() -> int:
+    """The CPUs this process may run on (its affinity mask where the platform has one)."""
+    import os
 
-    The machine the project targets has two cores; more processes than frames
-    or cores buy nothing.
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - platforms without affinity masks
+        return os.cpu_count() or 1
+
+
+def frame_workers(workers: int | None = None, frames: int = 1) -> int:
+    """How many processes render frames: ``workers`` (``--jobs``), else ``$SUNSET_WORKERS``, else every usable CPU.
+
+    Never more than ``frames``: more processes than frames buy nothing.
     """
     import os
 
     if workers is None:
         env = os.environ.get("SUNSET_WORKERS", "")
-        workers = int(env) if env.strip().isdigit() else min(2, os.cpu_count() or 1)
+        workers = int(env) if env.strip().isdigit() else usable_cpus()
     require_int_range("workers", workers, 1)
     return max(1, min(int(workers), int(frames)))
 

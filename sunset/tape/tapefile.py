@@ -19,8 +19,11 @@ All integers little-endian::
 
 The header holds ``frames``, ``height``, ``width``, ``times`` (seconds, as
 JSON numbers, which round-trip float64 exactly), ``reflections``, ``seed``,
-``scene`` (TOML text), ``sunset_version`` and ``codes_sha256`` (a checksum of
-the codes). There is no timestamp: the same tape gives the same bytes.
+``scene`` (TOML text), ``sunset_version``, ``provenance`` (the versions of
+sunset, Python, NumPy, Numba and colour-science that wrote it; readers
+ignore it, and tapes without it read as before) and ``codes_sha256`` (a
+checksum of the codes). There is no timestamp: the same tape gives the same
+bytes.
 """
 
 from __future__ import annotations
@@ -45,7 +48,7 @@ MAGIC = b"SUNTAPE\x1a"
 _PREFIX = struct.Struct("<8sIQ")
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Tape:
     """The codes of a sequence of frames and how they were made.
 
@@ -62,6 +65,9 @@ class Tape:
         Dither seed of :func:`sunset.tape.codes.encode`.
     version : str
         The sunset version that made the tape.
+    provenance : dict
+        The versions of what made it (:func:`sunset.provenance.provenance`;
+        those of this session when None; empty for a tape written without it).
     """
 
     scene: object
@@ -70,6 +76,7 @@ class Tape:
     reflections: int = 2
     seed: int = 0
     version: str = ""
+    provenance: dict | None = None
 
     def __post_init__(self):
         from .. import __version__
@@ -90,6 +97,15 @@ class Tape:
         object.__setattr__(self, "codes", codes)
         object.__setattr__(self, "times", times)
         object.__setattr__(self, "version", self.version or __version__)
+        if self.provenance is None:
+            from ..provenance import provenance
+
+            object.__setattr__(self, "provenance", provenance())
+
+    def __repr__(self) -> str:
+        n, h, w = self.codes.shape
+        return (f"Tape({n} frame{'s' * (n != 1)} of {w}×{h}, t {self.times[0]:g}–{self.times[-1]:g} s, "
+                f"reflections={self.reflections}, seed={self.seed}, sunset {self.version})")
 
     def __len__(self) -> int:
         return int(self.codes.shape[0])
@@ -116,6 +132,7 @@ def _header(tape: Tape) -> dict:
         "scene": tape.scene.to_toml(),
         "seed": int(tape.seed),
         "sunset_version": tape.version,
+        "provenance": dict(tape.provenance),
         "times": [float(t) for t in tape.times],
         "width": w,
     }
@@ -150,6 +167,9 @@ def parse_tape(data: bytes, name: str = "tape") -> Tape:
         times = np.array(head["times"], dtype=np.float64)
         reflections, seed = int(head["reflections"]), int(head["seed"])
         version, digest = str(head["sunset_version"]), str(head["codes_sha256"])
+        made_by = head.get("provenance", {})
+        if not isinstance(made_by, dict):
+            raise TypeError(f"provenance must be a table, got {made_by!r}")
     except SunsetError as exc:
         raise SunsetError(f"{name}: damaged tape header ({exc})") from None
     except (ValueError, KeyError, TypeError, UnicodeDecodeError) as exc:
@@ -164,7 +184,8 @@ def parse_tape(data: bytes, name: str = "tape") -> Tape:
         raise SunsetError(f"{name}: damaged tape (the codes do not match their checksum)")
     codes = np.frombuffer(payload, dtype=np.uint8).reshape(n, h, w).copy()
     try:
-        return Tape(scene=scene, codes=codes, times=times, reflections=reflections, seed=seed, version=version)
+        return Tape(scene=scene, codes=codes, times=times, reflections=reflections, seed=seed, version=version,
+                    provenance={str(k): str(v) for k, v in made_by.items()})
     except SunsetError as exc:
         raise SunsetError(f"{name}: damaged tape ({exc})") from None
 

@@ -21,7 +21,7 @@ from ..constants import SKY
 from ..kernels import row_strips, run_strips
 
 
-@dataclass
+@dataclass(repr=False)
 class Frame:
     """Per-pixel results of the vector stage for one scene at one time.
 
@@ -49,7 +49,7 @@ class Frame:
         Number of water reflections the ray made (0, 1 or 2).
     ray : ndarray (H, W, 3) float32
         The final ray direction: D for sky and island pixels, the (last)
-        reflected ray for sea pixels (with |R_z| applied where the mode says).
+        reflected ray for sea pixels (with ``|R_z|`` applied where the mode says).
     final_surface : ndarray (H, W) int8
         What the ray finally meets: −1 sky or k >= 1 island k.
     final_part : ndarray (H, W) int8
@@ -69,7 +69,7 @@ class Frame:
         codes do not use it.
     sea_rays : ndarray (H, W, 2, 3) float32
         The ray leaving the first and the second sea hit, R₁ and R₂, before
-        the |R_z| of the reflection modes; NaN where there is no such bounce.
+        the ``|R_z|`` of the reflection modes; NaN where there is no such bounce.
         With ``direction`` they give each bounce's normal,
         N_k ∝ R_k − I_k, I₁ = D, I₂ = R₁ (:mod:`sunset.light`).
         ``incidence`` and ``sea_rays`` are None when the frame was rendered
@@ -97,6 +97,14 @@ class Frame:
     def shape(self) -> tuple[int, int]:
         """(height, width) in pixels."""
         return self.surface.shape
+
+    def __repr__(self) -> str:
+        h, w = self.shape
+        n = max(1, h * w)
+        sky = 100.0 * np.count_nonzero(self.surface == SKY) / n
+        sea = 100.0 * np.count_nonzero(self.surface == 0) / n
+        return (f"Frame(t={self.t:g} s, {w}×{h}, reflections={self.reflections}: "
+                f"{sky:.0f}% sky, {sea:.0f}% sea, {100.0 - sky - sea:.0f}% islands)")
 
     def finish_direct(self, sea_bounces: bool = True) -> "Frame":
         """Fill the final-ray fields as if no ray reflected (direct rays only).

@@ -23,15 +23,19 @@ from __future__ import annotations
 
 
 from ..errors import require_finite, require_int_range
+from .direct import IslandPass
 from .frame import Frame
-from ..model.scene import Scene
+from ..model.scene import SceneLike, as_scene
 
-def render(scene: Scene, t: float = 0.0, reflections: int = 2, *, islands=None, sea_bounces: bool = True) -> Frame:
+
+def render(scene: SceneLike, t: float = 0.0, reflections: int = 2, *, islands: IslandPass | None = None,
+           sea_bounces: bool = True) -> Frame:
     """Trace every pixel of ``scene`` at time ``t`` (seconds).
 
     Parameters
     ----------
-    scene : Scene
+    scene : Scene, str or path
+        A scene, the name of a packaged scene (``"storm-swell"``) or a scene TOML file.
     t : float
         Time in seconds (the sea moves; nothing else does).
     reflections : {0, 1, 2}
@@ -54,6 +58,7 @@ def render(scene: Scene, t: float = 0.0, reflections: int = 2, *, islands=None, 
     from .posts import add_posts, reflected_posts
     from .reflect import trace_reflections
 
+    scene = as_scene(scene)
     require_finite("t", t)
     require_int_range("reflections", reflections, 0, 2)
     frame = trace_direct(scene, t, islands=islands)

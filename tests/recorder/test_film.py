@@ -118,7 +118,10 @@ def test_write_film_is_deterministic_and_decodes(tmp_path, tape, capsys):
     assert sorted(os.listdir(tmp_path)) == ["a.gif", "a.mp4", "b.gif", "b.mp4"]
 
 
-def test_odd_sizes_are_padded_and_progress_shows(tmp_path, capsys):
+def test_odd_sizes_are_padded_and_progress_shows(tmp_path, capsys, monkeypatch):
+    import sys
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)    # progress bars are for terminals only
     scene = Scene.default().with_size(21, 15)
     tape = render_cycle(scene, 2, reflections=0, progress=True)
     out = write_film(tape, tmp_path / "odd.mp4", None, cycles=1, progress=True)

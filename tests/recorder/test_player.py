@@ -291,7 +291,10 @@ def run(capsys, *argv):
     return code, out, err
 
 
-def test_cli_player_writes_one_file_with_a_progress_bar(capsys, tmp_path):
+def test_cli_player_writes_one_file_with_a_progress_bar(capsys, tmp_path, monkeypatch):
+    import sys
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)    # progress bars are for terminals only
     out = tmp_path / "carla.html"
     code, _, err = run(capsys, "player", "carlas-island", "-o", str(out), "--frames", "2", "--size", "16x12",
                        "--from-hours", "0.5", "--to-hours", "0.25")

@@ -149,12 +149,21 @@ def test_frames_over_two_processes_are_byte_identical_to_one():
     assert a.codes.tobytes() == b.codes.tobytes() and np.array_equal(a.times, b.times)
 
 
-def test_frame_workers():
-    from sunset.tape.cycle import frame_workers
+def test_frame_workers(monkeypatch):
+    import os
+
+    from sunset.tape.cycle import frame_workers, usable_cpus
 
     assert frame_workers(4, 3) == 3
     assert frame_workers(1, 10) == 1
-    assert 1 <= frame_workers(None, 10) <= 2
+    # by default every CPU the process may use (not capped at two), never more than the frames
+    monkeypatch.delenv("SUNSET_WORKERS", raising=False)
+    assert usable_cpus() == len(os.sched_getaffinity(0))
+    assert frame_workers(None, 10**6) == usable_cpus()
+    assert frame_workers(None, 1) == 1
+    monkeypatch.setenv("SUNSET_WORKERS", "3")
+    assert frame_workers(None, 10) == 3
+    assert frame_workers(5, 10) == 5            # --jobs wins over the variable
     with pytest.raises(SunsetError, match="workers"):
         frame_workers(0, 5)
 

@@ -1,0 +1,94 @@
+"""What made an output: the versions every file this package writes records.
+
+Every PNG (the rendered frames and the matplotlib figures), the MP4 and the
+tape carry :func:`provenance`: the versions of sunset, Python, NumPy, Numba and
+colour-science. ``sunset info`` prints it with the rest of
+:func:`environment` (which kernels render, the platform, the settings).
+Nothing in it changes from run to run on one machine (no time, no host name,
+not even the kernels, whose results are bit-identical), so outputs stay
+byte-identical.
+
+The versions are read from the installed packages' metadata, not by importing
+them (importing Numba takes a second).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import sys
+from importlib import metadata
+
+__all__ = ["DISTRIBUTION", "package_version", "provenance", "provenance_json", "environment", "info_text"]
+
+#: The name this package is installed under (``pip install sunset-waves``); it imports as ``sunset``.
+DISTRIBUTION = "sunset-waves"
+
+#: The distributions whose versions every output records, by the name shown.
+RECORDED = {"sunset": DISTRIBUTION, "numpy": "numpy", "numba": "numba", "colour-science": "colour-science"}
+
+#: Further distributions ``sunset info`` lists.
+ALSO_LISTED = ("scipy", "matplotlib", "pillow", "imageio", "imageio-ffmpeg", "tqdm")
+
+
+def package_version(distribution: str) -> str:
+    """The installed version of ``distribution``, or ``"not installed"``."""
+    try:
+        return metadata.version(distribution)
+    except metadata.PackageNotFoundError:
+        return "not installed"
+
+
+def _kernels() -> str:
+    """Which kernels render now: ``"numba"`` (the compiled twins) or ``"numpy"``.
+
+    Asked of the kernel switch when it is loaded (it is, whenever a frame was
+    rendered); otherwise what it will choose: Numba unless ``SUNSET_COMPILED=0``
+    or Numba is not installed. Numba itself is not imported.
+    """
+    for name in ("sunset.kernels",):
+        switch = sys.modules.get(name)
+        if switch is not None and callable(getattr(switch, "enabled", None)):
+            return "numba" if switch.enabled() else "numpy"
+    off = os.environ.get("SUNSET_COMPILED", "1") == "0" or package_version("numba") == "not installed"
+    return "numpy" if off else "numba"
+
+
+def provenance() -> dict[str, str]:
+    """The versions that made an output: sunset, Python, NumPy, Numba, colour-science.
+
+    >>> list(provenance())
+    ['sunset', 'python', 'numpy', 'numba', 'colour-science']
+    """
+    out = {"sunset": package_version(DISTRIBUTION), "python": platform.python_version()}
+    for shown, dist in RECORDED.items():
+        if shown != "sunset":
+            out[shown] = package_version(dist)
+    return out
+
+
+def provenance_json() -> str:
+    """:func:`provenance` as compact JSON with sorted keys (what the files store)."""
+    return json.dumps(provenance(), sort_keys=True, separators=(",", ":"))
+
+
+def environment() -> dict[str, str]:
+    """Everything ``sunset info`` prints: :func:`provenance`, more packages, the platform and the settings."""
+    env = dict(provenance())
+    env["kernels"] = _kernels()
+    for dist in ALSO_LISTED:
+        env[dist] = package_version(dist)
+    env["platform"] = platform.platform()
+    env["python executable"] = sys.executable
+    env["cpus"] = str(os.cpu_count() or 1)
+    env["SUNSET_WORKERS"] = os.environ.get("SUNSET_WORKERS", "(unset)")
+    env["SUNSET_COMPILED"] = os.environ.get("SUNSET_COMPILED", "(unset)")
+    return env
+
+
+def info_text(env: dict[str, str] | None = None) -> str:
+    """``env`` (default :func:`environment`) as aligned ``name  value`` lines."""
+    env = environment() if env is None else env
+    width = max(map(len, env))
+    return "".join(f"{k:<{width}}  {v}\n" for k, v in env.items())
