@@ -25,19 +25,33 @@ try:
 except _metadata.PackageNotFoundError:  # pragma: no cover - running from a source tree that was never installed
     __version__ = "0+unknown"
 
-from .model.camera import Camera
-from .tape.codes import encode
-from .recorder.dicomed import expose
-from .errors import SunsetError
-from .recorder.film import make_film
-from .vector.frame import Frame
-from .model.islands import Cosine, Island, Paraboloid
-from .model.scene import Scene, default_scene, scene_names
-from .pictures import picture
-from .vector.render import render
-from .model.stokes_exact import solve_stokes
-from .model.sun import Sun
-from .model.waves import Sea, WaveTrain
+import importlib
+
+#: Where each name of the public API lives. The names are loaded on first use
+#: (PEP 562), so that ``import sunset.cli`` is quick and a Ctrl-C while the
+#: renderer's modules load is caught by the command line (one line, exit 130).
+_API = {
+    "Camera": ".model.camera", "encode": ".tape.codes", "expose": ".recorder.dicomed", "SunsetError": ".errors",
+    "make_film": ".recorder.film", "Frame": ".vector.frame", "Cosine": ".model.islands",
+    "Island": ".model.islands", "Paraboloid": ".model.islands", "Scene": ".model.scene",
+    "default_scene": ".model.scene", "render": ".vector.render", "solve_stokes": ".model.stokes_exact",
+    "Sun": ".model.sun", "Sea": ".model.waves", "WaveTrain": ".model.waves", "scene_names": ".model.scene",
+    "picture": ".pictures",
+}
+
+
+def __getattr__(name: str):
+    module = _API.get(name)
+    if module is None:
+        raise AttributeError(f"module 'sunset' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_API))
+
 
 __all__ = [
     "Camera", "Cosine", "Frame", "Island", "Paraboloid", "Scene", "Sea", "Sun",

@@ -1,20 +1,27 @@
 """The ``sunset`` command: figures, one frame, a tape's exposure, the film, the player.
 
 Every user error (a bad scene file, a bad number, an unknown figure, an
-unwritable output, a damaged tape) prints one line ``sunset: error: …`` and
-exits with status 2, with no traceback and no partial output file.
+unwritable output, a damaged tape, a full disk) prints one line
+``sunset: error: …`` and exits with status 2, with no traceback and no new
+output file: a command's outputs land together when all are complete
+(:func:`sunset.io.all_or_nothing`). Ctrl-C exits with status 130, SIGTERM
+with 143 and SIGHUP with 129, each with one line and the temporary files
+removed.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
+import signal
 import sys
 from pathlib import Path
 
 from . import __version__
-from .constants import MAX_FPS, MAX_PIXELS
-from .errors import SunsetError
+from .constants import MAX_CYCLE_FRAMES, MAX_FPS, MAX_PIXELS
+from .errors import SunsetError, shown
+from .guard import Interrupted, check_stop, config_fallback, one_line, signals_stop_the_command, silenced_stdout
 
 EXAMPLES = {
     "figures": """examples:
@@ -101,6 +108,10 @@ def _fps(text: str) -> int:
     return _count(text, MAX_FPS)
 
 
+def _frames(text: str) -> int:
+    return _count(text, MAX_CYCLE_FRAMES)
+
+
 
 
 def _samples(text: str) -> int:
@@ -144,10 +155,40 @@ def _seed(text: str) -> int:
     return v
 
 
-def _load_scene(arg: str):
-    from .model.scene import as_scene
+def _scene_path(arg: str) -> Path | None:
+    """The scene file ``arg`` names, or None for a packaged scene's name."""
+    if not arg.strip():
+        raise SunsetError("the scene path is empty")
+    try:
+        exists = os.path.lexists(arg)
+    except (OSError, ValueError):
+        exists = False
+    from .model.scene import scene_names
 
-    return as_scene(arg)
+    if arg in scene_names() or (not exists and "/" not in arg and not arg.endswith(".toml")):
+        return None
+    return Path(arg)
+
+
+def _load_scene(arg: str):
+    from .model.scene import as_scene, scene_from_file
+
+    path = _scene_path(arg)
+    return as_scene(arg) if path is None else scene_from_file(path)
+
+
+def _outputs(outputs: dict, suffixes: dict | None = None, inputs: dict | None = None) -> None:
+    """Check every output of a command before the work: writable, not empty, none the same file as another."""
+    from .io import check_distinct, check_writable
+
+    for label, path in outputs.items():
+        if path is None:
+            continue
+        try:
+            check_writable(path, (suffixes or {}).get(label, ()))
+        except SunsetError as exc:
+            raise SunsetError(f"{label}: {exc}") from None
+    check_distinct(outputs, inputs)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -171,7 +212,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--only", help="comma-separated figure names: 1,2,3,4,5,6,7,diagnostic,reflections,film")
     p.add_argument("--size", type=_size, help="size of Figures 4–7 and the film, WxH (default 1020x1023)")
     p.add_argument("--seed", type=_seed, default=0, help="dither seed (default 0)")
-    p.add_argument("--frames", type=_count, default=32, help="frames per wave cycle in the film (default 32)")
+    p.add_argument("--frames", type=_frames, default=32,
+                   help=f"frames per wave cycle in the film (default 32, at most {MAX_CYCLE_FRAMES})")
     p.add_argument("-j", "--jobs", type=_count, help=jobs_help)
 
     p = add("render", "Render one frame of a scene to PNG (and optionally its tape).")
@@ -196,7 +238,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = add("film", "Render one wave cycle once and film it while the sun sets (colour-table animation).")
     p.add_argument("scene", help="scene TOML file (or a packaged scene name)")
-    p.add_argument("--frames", type=_count, default=32, help="frames per wave cycle (default 32)")
+    p.add_argument("--frames", type=_frames, default=32,
+                   help=f"frames per wave cycle (default 32, at most {MAX_CYCLE_FRAMES})")
     p.add_argument("--from-hours", type=_number, default=1.5, help="hours before sunset at the start (default 1.5)")
     p.add_argument("--to-hours", type=_number, default=-0.25, help="hours before sunset at the end (default -0.25)")
     p.add_argument("--size", type=_size, help="WxH in pixels")
@@ -213,7 +256,8 @@ def build_parser() -> argparse.ArgumentParser:
                       "self-contained HTML file.")
     p.add_argument("scene", help="scene TOML file (or a packaged scene name)")
     p.add_argument("-o", "--output", required=True, help="output HTML file")
-    p.add_argument("--frames", type=_count, default=32, help="frames per wave cycle (default 32)")
+    p.add_argument("--frames", type=_frames, default=32,
+                   help=f"frames per wave cycle (default 32, at most {MAX_CYCLE_FRAMES})")
     p.add_argument("--size", type=_size, help="WxH in pixels (default: the scene's picture, 512 on its longer side)")
     p.add_argument("--from-hours", type=_number, default=1.5, help="hours before sunset at the start of the "
                                                                    "hours slider (default 1.5)")
@@ -240,20 +284,21 @@ def build_parser() -> argparse.ArgumentParser:
 def _cmd_figures(args) -> None:
     from .figures import make_figures
 
+    if not args.out.strip():
+        raise SunsetError("--out: the output folder is empty")
     make_figures(args.out, only=args.only, size=args.size, seed=args.seed,
                  progress=not args.quiet, log=(lambda *_: None) if args.quiet else
                  (lambda msg: print(msg, file=sys.stderr)), film_frames=args.frames, workers=args.jobs)
 
 
 def _cmd_render(args) -> None:
-    from .io import PNG_SUFFIXES, check_writable
+    from .io import PNG_SUFFIXES, all_or_nothing
 
     samples = _check_shading(args)
     if args.shading == "rgb":
         return _cmd_render_rgb(args, samples)
-    check_writable(args.output, PNG_SUFFIXES)          # before the long work
-    if args.tape:
-        check_writable(args.tape)
+    _outputs({"-o": args.output, "--tape": args.tape}, {"-o": PNG_SUFFIXES},   # before the long work
+             {"the scene": _scene_path(args.scene)})
     scene = _load_scene(args.scene)
     from .figures.paper import expose_png, render_tape
     from .tape.tapefile import write_tape
@@ -263,15 +308,17 @@ def _cmd_render(args) -> None:
     if args.still:
         scene = scene.still()
     tape = render_tape(scene, args.time, args.reflections, args.seed)
-    if args.tape:
-        write_tape(args.tape, tape)
-    expose_png(tape, args.hours, Path(args.output))
+    with all_or_nothing():
+        if args.tape is not None:
+            write_tape(args.tape, tape)
+        expose_png(tape, args.hours, Path(args.output))
 
 
 def _cmd_render_rgb(args, samples: int) -> None:
     from .light.output import check_rgb_output
 
     depth = args.depth or 8
+    _outputs({"-o": args.output}, inputs={"the scene": _scene_path(args.scene)})
     check_rgb_output(args.output, depth)               # before the long work
     scene = _load_scene(args.scene)
     if args.size:
@@ -289,18 +336,20 @@ def _cmd_render_rgb(args, samples: int) -> None:
 
 def _cmd_expose(args) -> None:
     from .figures.paper import expose_png
-    from .io import PNG_SUFFIXES, check_writable
+    from .io import PNG_SUFFIXES
     from .tape.tapefile import read_tape
 
-    check_writable(args.output, PNG_SUFFIXES)
+    _outputs({"-o": args.output}, {"-o": PNG_SUFFIXES}, {"the tape": args.tape})
     tape = read_tape(args.tape)
     expose_png(tape, args.hours, Path(args.output), frame=args.frame)
 
 
 def _cmd_film(args) -> None:
-    from .recorder.film import make_film
+    from .recorder.film import FILM_SUFFIXES, PREVIEW_SUFFIXES, make_film
 
     samples = _check_shading(args)
+    _outputs({"-o": args.output, "--preview": args.preview, "--tape": args.tape},
+             {"-o": FILM_SUFFIXES, "--preview": PREVIEW_SUFFIXES}, {"the scene": _scene_path(args.scene)})
     scene = _load_scene(args.scene)
     if args.size:
         scene = scene.with_size(*args.size)
@@ -313,10 +362,9 @@ def _cmd_film(args) -> None:
 
 
 def _cmd_player(args) -> None:
-    from .io import check_writable
     from .recorder.player import HTML_SUFFIXES, write_player
 
-    check_writable(args.output, HTML_SUFFIXES)          # before the long work
+    _outputs({"-o": args.output}, {"-o": HTML_SUFFIXES}, {"the scene": _scene_path(args.scene)})   # before the work
     scene = _load_scene(args.scene)
     write_player(scene, args.output, frames=args.frames, size=args.size, from_hours=args.from_hours,
                  to_hours=args.to_hours, reflections=args.reflections, seed=args.seed, progress=not args.quiet)
@@ -340,9 +388,15 @@ def _cmd_scene(args) -> None:
     from .model.scene import DEFAULT_SCENE, load_named_scene, scene_names
 
     if args.list:
-        sys.stdout.write("".join(f"{name}\n" for name in scene_names()))
-        return
-    sys.stdout.write(load_named_scene(args.name or DEFAULT_SCENE).to_toml())
+        text = "".join(f"{name}\n" for name in scene_names())
+    else:
+        text = load_named_scene(args.name or DEFAULT_SCENE).to_toml()
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    except OSError as exc:                    # a full disk, a closed pipe: say so once, not again at exit
+        with silenced_stdout():
+            raise SunsetError(f"cannot write to standard output ({exc.strerror or exc})") from None
 
 
 def _cmd_export(args) -> None:
@@ -396,16 +450,29 @@ def _join_values(argv: list[str]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 user error)."""
-    try:
-        args = build_parser().parse_args(_join_values(list(sys.argv[1:] if argv is None else argv)))
-        COMMANDS[args.command](args)
-    except SunsetError as exc:
-        print(f"sunset: error: {exc}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print("sunset: interrupted", file=sys.stderr)
-        return 130
+    """Run the command line; returns the exit status (0 ok, 2 user error, 128 + n on signal n)."""
+    config_fallback()
+    with signals_stop_the_command():
+        try:
+            args = build_parser().parse_args(_join_values(list(sys.argv[1:] if argv is None else argv)))
+            COMMANDS[args.command](args)
+            check_stop()                       # a signal whose exception Python swallowed still ends the command
+        except SunsetError as exc:
+            print(f"sunset: error: {one_line(exc)}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            print("sunset: interrupted", file=sys.stderr)
+            return 130
+        except Interrupted as exc:
+            print(f"sunset: stopped by {signal.Signals(exc.signum).name}", file=sys.stderr)
+            return 128 + exc.signum
+        except MemoryError:
+            print("sunset: error: out of memory (use a smaller picture or fewer frames)", file=sys.stderr)
+            return 2
+        except OSError as exc:                 # the file system said no where no check foresaw it
+            where = f"{shown(exc.filename)}: " if getattr(exc, "filename", None) else ""
+            print(f"sunset: error: {one_line(where + (exc.strerror or str(exc)))}", file=sys.stderr)
+            return 2
     return 0
 
 

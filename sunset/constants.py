@@ -153,7 +153,7 @@ ISLAND_NORMAL_SAMPLES = 12
 SUN_SUPERSAMPLE = 16
 
 #: Format version of tape files written by sunset/tape/tapefile.py.
-TAPE_FORMAT_VERSION = 1
+TAPE_FORMAT_VERSION = 2
 
 #: Film defaults: frames per second and hours before sunset at the start/end.
 FILM_FPS = 24
@@ -222,9 +222,6 @@ STOKES_MAP_FACTOR = 1.5
 # refused with one error line instead of running out of memory or producing
 # a picture the model cannot make.
 
-#: Most pixels in one frame (width × height): 64 megapixels, 8 × 8 of the
-#: paper's 1020 × 1023 frames; one frame's arrays then take some 25 GB.
-MAX_PIXELS = 64_000_000
 
 #: Range of σ, the spacing of the height-field samples in pixels: from 16
 #: samples per pixel (the sample arrays grow as 1/σ) to one every 16 pixels.
@@ -285,3 +282,78 @@ RIPPLE_MAX_REACH = 80.0
 RIPPLE_SLOPE_SIGMAS = 2.0
 #: Depths at which the RGB back end tabulates a cloud's light for an hour (sunset/light/lighting.py).
 CLOUD_TABLE_DEPTHS = 64
+
+# --- Hostile input (issue 12): the physical range of every scene field, the
+# most a scene, a tape or a command may ask for, and the work a frame may cost
+# (sunset/model/*.py, sunset/vector/budget.py, sunset/tape/tapefile.py, sunset/cli.py).
+
+#: Lowest eye, metres (a millimetre above the sea).
+MIN_EYE_HEIGHT = 0.001
+
+#: The picture window's edges s = x/y and ζ = z/y lie within ±MAX_WINDOW_SLOPE
+#: (about 84° from the view axis).
+MAX_WINDOW_SLOPE = 10.0
+
+#: Longest wave, metres (ocean swell is at most about a kilometre long).
+MAX_WAVELENGTH = 10_000.0
+
+#: Steepest wave train: k·a, the slope of its first harmonic, at most 1 (45°,
+#: more than twice the steepest wave that exists, k·a ≈ 0.44).
+MAX_WAVE_SLOPE = 1.0
+
+#: Directions and the sun's azimuth are degrees in [−360, 360]; phases radians
+#: in [−MAX_PHASE, MAX_PHASE].
+MAX_DEGREES = 360.0
+MAX_PHASE = 1000.0
+
+#: Smallest sun radius, degrees (the true sun is 0.27°; a smaller disk is
+#: narrower than the track's dither and its colour tables lose meaning).
+MIN_SUN_RADIUS = 0.01
+
+#: Islands: apex within MAX_DISTANCE metres of the eye; heights (apexes, cliff
+#: top, hill amplitudes) within ±MAX_ISLAND_HEIGHT metres; paraboloid
+#: curvatures e, g in [MIN_CURVATURE, MAX_CURVATURE] m⁻¹; hill wave numbers
+#: ℓ, m within ±MAX_HILL_WAVENUMBER rad m⁻¹ (hills at least 6 cm long).
+MAX_DISTANCE = 1.0e6
+MAX_ISLAND_HEIGHT = 1.0e4
+MIN_CURVATURE = 1.0e-8
+MAX_CURVATURE = 100.0
+MAX_HILL_WAVENUMBER = 100.0
+
+#: Most islands in a scene: the depth buffer keeps each pixel's surface as
+#: one signed byte (−1 sky, 0 sea, 1 … 127 the islands).
+MAX_ISLANDS = 127
+
+#: Most wave trains in a sea and cosine terms on an island.
+MAX_TRAINS = 64
+MAX_COSINES = 64
+
+#: Largest scene file, bytes, and deepest nesting of its tables and arrays.
+MAX_SCENE_BYTES = 1 << 20
+MAX_SCENE_DEPTH = 16
+
+#: Largest tape header (the scene's TOML and the times), bytes.
+MAX_TAPE_HEADER_BYTES = 1 << 24
+
+#: Most frames in a film's wave cycle (``--frames``).
+MAX_CYCLE_FRAMES = 1000
+
+#: The work of one frame. Sea samples per pixel: the samples of the height
+#: field along every scan line divided by the pixels (the sample count
+#: depends on the picture window, not on the pixel count, so a window close to
+#: and far below the horizon asks for millions per pixel; such a window is
+#: refused). Each island adds at most ISLAND_SAMPLE_BUDGET times the sea's
+#: samples (or one per pixel) per scan line.
+MAX_SEA_SAMPLES_PER_PIXEL = 256
+
+#: Peak memory of a frame, bytes per pixel: render, codes and the film
+#: recorder's RGB together (sunset.bench.memory.measure_bytes_per_pixel
+#: measures it; tests/test_hostile_input.py and chapter 11 check it), and the
+#: memory a frame may take in all: the largest picture is MAX_FRAME_BYTES /
+#: FRAME_BYTES_PER_PIXEL pixels.
+FRAME_BYTES_PER_PIXEL = 320
+MAX_FRAME_BYTES = 6 << 30
+
+#: Most pixels in one frame (width × height): MAX_FRAME_BYTES / FRAME_BYTES_PER_PIXEL,
+#: about 20 megapixels (4,480 × 4,480; 19 of the paper's 1020 × 1023 frames).
+MAX_PIXELS = MAX_FRAME_BYTES // FRAME_BYTES_PER_PIXEL

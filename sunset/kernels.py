@@ -84,11 +84,51 @@ def use_compiled(flag: bool):
         _state["on"] = old
 
 
+def _private_cache_dir() -> bool:
+    """Point Numba's cache at a private folder in the temporary directory; False if there is none.
+
+    Used when neither the package's folder nor the user's cache folder is
+    writable (a read-only install run with no writable HOME). The folder must
+    belong to this user and be closed to others: compiled code is loaded from
+    it.
+    """
+    import stat
+    import tempfile
+
+    if _numba.config.CACHE_DIR:               # the user chose a folder (NUMBA_CACHE_DIR), and it failed
+        return False
+    path = os.path.join(tempfile.gettempdir(), f"sunset-numba-cache-{os.getuid()}")
+    try:
+        os.makedirs(path, mode=0o700, exist_ok=True)
+        st = os.lstat(path)
+    except OSError:
+        return False
+    if not stat.S_ISDIR(st.st_mode) or st.st_uid != os.getuid() or st.st_mode & 0o077:
+        return False
+    _numba.config.CACHE_DIR = path
+    return True
+
+
 def jit(fn):
-    """Compile with NumPy's float semantics (x/0 gives ±inf or NaN, no exception), cached on disk."""
+    """Compile with NumPy's float semantics (x/0 gives ±inf or NaN, no exception), cached on disk.
+
+    The cache goes beside the module, else in the user's cache folder (Numba's
+    choice), else in a private folder in the temporary directory; where none
+    is writable the kernels are compiled on every run, never refused.
+    """
     if _numba is None:
         return fn
-    return _numba.njit(cache=True, nogil=True, error_model="numpy")(fn)
+    options = {"nogil": True, "error_model": "numpy"}
+    try:
+        return _numba.njit(cache=True, **options)(fn)
+    except RuntimeError:                      # "cannot cache function ...: no locator available"
+        pass
+    if _private_cache_dir():
+        try:
+            return _numba.njit(cache=True, **options)(fn)
+        except RuntimeError:
+            pass
+    return _numba.njit(cache=False, **options)(fn)
 
 
 def twin(module: str):

@@ -14,8 +14,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..constants import MAX_EYE_HEIGHT, MAX_PIXELS, PAPER_HEIGHT, PAPER_SIGMA, PAPER_WIDTH, SIGMA_MAX, SIGMA_MIN
-from ..errors import SunsetError, require_finite, require_int_range, require_positive
+from ..constants import (MAX_EYE_HEIGHT, MAX_PIXELS, MAX_WINDOW_SLOPE, MIN_EYE_HEIGHT, PAPER_HEIGHT, PAPER_SIGMA,
+                         PAPER_WIDTH, SIGMA_MAX, SIGMA_MIN)
+from ..errors import SunsetError, require_finite, require_int_range, require_positive, require_range
 
 
 @dataclass(frozen=True)
@@ -51,7 +52,7 @@ class Camera:
         require_int_range("width", self.width, 1)
         require_int_range("height", self.height, 1)
         for name in ("s_min", "s_max", "zy_min", "zy_max"):
-            require_finite(name, getattr(self, name))
+            require_range(name, getattr(self, name), -MAX_WINDOW_SLOPE, MAX_WINDOW_SLOPE)
         if not self.s_max > self.s_min:
             raise SunsetError(f"s_max must be greater than s_min, got {self.s_min!r} .. {self.s_max!r}")
         if not self.zy_max > self.zy_min:
@@ -60,6 +61,8 @@ class Camera:
         if not SIGMA_MIN <= self.sigma <= SIGMA_MAX:
             raise SunsetError(f"sigma must be in {SIGMA_MIN:g}..{SIGMA_MAX:g} pixels (the sample spacing), "
                               f"got {self.sigma!r}")
+        if self.eye_height < MIN_EYE_HEIGHT:
+            raise SunsetError(f"eye_height must be at least {MIN_EYE_HEIGHT:g} m, got {self.eye_height!r}")
         if self.eye_height > MAX_EYE_HEIGHT:
             raise SunsetError(f"eye_height must be at most {MAX_EYE_HEIGHT:g} m (the sea is flat, the Earth "
                               f"is not), got {self.eye_height!r}")

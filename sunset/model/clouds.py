@@ -44,7 +44,8 @@ import numpy as np
 
 from ..constants import (CLOUD_ALBEDO, CLOUD_ATTENUATION_LENGTH, CLOUD_MAX_CELLS, CLOUD_MAX_LEVEL, EARTH_RADIUS,
                          CLOUD_MULTIPLE_SCATTERING)
-from ..errors import SunsetError, require_finite, require_nonnegative, require_positive
+from ..constants import MAX_DISTANCE, MAX_HILL_WAVENUMBER
+from ..errors import SunsetError, require_finite, require_nonnegative, require_positive, require_range
 
 __all__ = ["Billow", "CloudCell", "Clouds", "cloud_radiance"]
 
@@ -59,8 +60,8 @@ class Billow:
 
     def __post_init__(self):
         require_finite("amplitude", self.amplitude)
-        require_finite("l", self.l)
-        require_finite("m", self.m)
+        require_range("l", self.l, -MAX_HILL_WAVENUMBER, MAX_HILL_WAVENUMBER, "rad/m")
+        require_range("m", self.m, -MAX_HILL_WAVENUMBER, MAX_HILL_WAVENUMBER, "rad/m")
         if not abs(self.amplitude) < 1.0:
             raise SunsetError(f"amplitude must lie in (-1, 1), got {self.amplitude!r}")
 
@@ -81,11 +82,13 @@ class CloudCell:
     def __post_init__(self):
         object.__setattr__(self, "billows", tuple(self.billows))
         for name in ("x", "y"):
-            require_finite(name, getattr(self, name))
+            require_range(name, getattr(self, name), -MAX_DISTANCE, MAX_DISTANCE, "m")
         for name in ("a", "b"):
             require_positive(name, getattr(self, name))
+            require_range(name, getattr(self, name), 0.0, MAX_DISTANCE, "m")
         for name in ("top", "bottom"):
             require_nonnegative(name, getattr(self, name))
+            require_range(name, getattr(self, name), 0.0, CLOUD_MAX_LEVEL, "m")
         if self.top + self.bottom <= 0.0:
             raise SunsetError("top or bottom must be positive: a cloud needs some thickness")
         if sum(abs(b.amplitude) for b in self.billows) >= 1.0:

@@ -30,8 +30,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..constants import PART_BEACH, PART_CLIFF, PART_HILL
-from ..errors import SunsetError, require_finite, require_nonnegative, require_positive
+from ..constants import (MAX_COSINES, MAX_PHASE, MAX_CURVATURE, MAX_DISTANCE, MAX_HILL_WAVENUMBER, MAX_ISLAND_HEIGHT,
+                         MIN_CURVATURE, PART_BEACH, PART_CLIFF, PART_HILL)
+from ..errors import SunsetError, require_finite, require_nonnegative, require_positive, require_range
 from .waves import unit_normal
 
 
@@ -51,9 +52,10 @@ class Cosine:
 
     def __post_init__(self):
         require_nonnegative("amplitude", self.amplitude)
-        require_finite("l", self.l)
-        require_finite("m", self.m)
-        require_finite("phase", self.phase)
+        require_range("amplitude", self.amplitude, 0.0, MAX_ISLAND_HEIGHT, "m")
+        require_range("l", self.l, -MAX_HILL_WAVENUMBER, MAX_HILL_WAVENUMBER, "rad/m")
+        require_range("m", self.m, -MAX_HILL_WAVENUMBER, MAX_HILL_WAVENUMBER, "rad/m")
+        require_range("phase", self.phase, -MAX_PHASE, MAX_PHASE, "radians")
 
 
 @dataclass(frozen=True)
@@ -70,10 +72,12 @@ class Paraboloid:
     g: float
 
     def __post_init__(self):
-        require_finite("height", self.height)
+        require_range("height", self.height, -MAX_ISLAND_HEIGHT, MAX_ISLAND_HEIGHT, "m")
         require_positive("e", self.e)
+        require_range("e", self.e, MIN_CURVATURE, MAX_CURVATURE, "1/m")
         require_finite("f", self.f)
         require_positive("g", self.g)
+        require_range("g", self.g, MIN_CURVATURE, MAX_CURVATURE, "1/m")
         if not self.f * self.f < 4.0 * self.e * self.g:
             raise SunsetError(f"f must satisfy f² < 4·e·g (an elliptical paraboloid), got e={self.e!r}, f={self.f!r}, g={self.g!r}")
 
@@ -168,11 +172,15 @@ class Island:
 
     def __post_init__(self):
         object.__setattr__(self, "cosines", tuple(self.cosines))
-        require_finite("x", self.x)
+        if len(self.cosines) > MAX_COSINES:
+            raise SunsetError(f"cosines must hold at most {MAX_COSINES} entries, got {len(self.cosines)}")
+        require_range("x", self.x, -MAX_DISTANCE, MAX_DISTANCE, "m")
         require_finite("y", self.y)
         if not self.y > 0:
             raise SunsetError(f"y must be positive: the island is behind the eye (y = {self.y!r})")
-        require_finite("cliff_top", self.cliff_top)
+        if not self.y <= MAX_DISTANCE:
+            raise SunsetError(f"y must be at most {MAX_DISTANCE:g} m, got {self.y!r}")
+        require_range("cliff_top", self.cliff_top, -MAX_ISLAND_HEIGHT, MAX_ISLAND_HEIGHT, "m")
         if not self.cliff_top < self.cliff.height:
             raise SunsetError(f"cliff_top must be below the cliff paraboloid's apex {self.cliff.height!r}, got {self.cliff_top!r}")
         require_positive("hill_factor", self.hill_factor)

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import POST_MAX_RADIUS, POST_MAX_TOP
-from ..errors import SunsetError, require_finite, require_nonnegative, require_positive
+from ..constants import MAX_DISTANCE, POST_MAX_RADIUS, POST_MAX_TOP
+from ..errors import SunsetError, require_finite, require_nonnegative, require_positive, require_range
 
 __all__ = ["Post"]
 
@@ -37,8 +37,8 @@ class Post:
     albedo: float = 0.35
 
     def __post_init__(self):
-        require_finite("x", self.x)
-        require_finite("y", self.y)
+        require_range("x", self.x, -MAX_DISTANCE, MAX_DISTANCE, "m")
+        require_range("y", self.y, -MAX_DISTANCE, MAX_DISTANCE, "m")
         require_positive("radius", self.radius)
         if self.radius > POST_MAX_RADIUS:
             raise SunsetError(f"radius must be at most {POST_MAX_RADIUS:g} m (a post, not an island), "

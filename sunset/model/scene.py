@@ -30,11 +30,12 @@ from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 
+from ..constants import MAX_COSINES, MAX_ISLANDS, MAX_SCENE_BYTES, MAX_SCENE_DEPTH, MAX_TRAINS
 from .camera import Camera
 from .clouds import Billow, CloudCell, Clouds
 from .posts import Post
-from ..constants import POST_MAX_COUNT
-from ..errors import SunsetError
+from ..constants import CLOUD_MAX_CELLS, POST_MAX_COUNT
+from ..errors import SunsetError, shown
 from .islands import Cosine, Island, Paraboloid
 from .sun import Sun
 from .waves import Sea, WaveTrain
@@ -57,6 +58,8 @@ class Scene:
 
     def __post_init__(self):
         object.__setattr__(self, "islands", tuple(self.islands))
+        if len(self.islands) > MAX_ISLANDS:
+            raise SunsetError(f"islands must hold at most {MAX_ISLANDS} entries, got {len(self.islands)}")
         h = self.camera.eye_height
         for k, island in enumerate(self.islands):
             ground = float(island.height(0.0, 0.0))
@@ -101,32 +104,15 @@ class Scene:
     def from_toml(cls, path_or_text: str | Path) -> "Scene":
         """Load a scene from a TOML file (a path) or TOML text.
 
-        Raises :class:`SunsetError` naming the file and the field for any
-        malformed or invalid content.
+        A :class:`~pathlib.Path`, or a string with neither a newline nor an
+        ``=``, is a file; any other string is the TOML text itself (see
+        :func:`scene_from_text`, which never reads a file). Raises
+        :class:`SunsetError` naming the file and the field for any malformed
+        or invalid content.
         """
         if isinstance(path_or_text, Path) or ("\n" not in str(path_or_text) and "=" not in str(path_or_text)):
-            path = Path(path_or_text)
-            if path.is_dir():
-                raise SunsetError(f"{path}: is a directory, not a scene file")
-            if path.exists() and not path.is_file():
-                raise SunsetError(f"{path}: not a regular file (a device or a pipe), not a scene file")
-            try:
-                text = path.read_text(encoding="utf-8")
-            except FileNotFoundError:
-                raise SunsetError(f"{path}: no such scene file") from None
-            except (OSError, UnicodeDecodeError) as exc:
-                raise SunsetError(f"{path}: cannot read scene file ({exc})") from None
-            where = f"{path}: "
-        else:
-            text, where = str(path_or_text), ""
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise SunsetError(f"{where}malformed TOML ({exc})") from None
-        try:
-            return cls.from_dict(data)
-        except SunsetError as exc:
-            raise SunsetError(f"{where}{exc}") from None
+            return scene_from_file(Path(path_or_text))
+        return scene_from_text(str(path_or_text))
 
     def to_toml(self) -> str:
         """The scene as TOML text; ``Scene.from_toml(s.to_toml()) == s`` exactly."""
@@ -149,13 +135,101 @@ def scene_names() -> list[str]:
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
 
 
+def scene_from_file(path: Path) -> Scene:
+    """Load a scene file; errors start with the file's name."""
+    name = shown(path)
+    try:
+        if path.is_dir():
+            raise SunsetError(f"{name}: is a directory, not a scene file")
+        if path.exists() and not path.is_file():
+            raise SunsetError(f"{name}: not a regular file (a device or a pipe), not a scene file")
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_SCENE_BYTES + 1)
+    except FileNotFoundError:
+        raise SunsetError(f"{name}: no such scene file") from None
+    except OSError as exc:
+        raise SunsetError(f"{name}: cannot read scene file ({exc.strerror or exc})") from None
+    if len(raw) > MAX_SCENE_BYTES:
+        raise SunsetError(f"{name}: scene file larger than {MAX_SCENE_BYTES // 1024} KiB")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SunsetError(f"{name}: cannot read scene file (not UTF-8: {exc.reason} at byte {exc.start})") from None
+    return scene_from_text(text, f"{name}: ")
+
+
+def _depth(text: str) -> int:
+    """A bound on the nesting of TOML text: brackets and braces, plus the dots of a dotted key.
+
+    Strings and comments are skipped; a dot between two digits belongs to a
+    number. tomllib recurses on brackets and takes time quadratic in a dotted
+    key's length, so both are bounded before it runs.
+    """
+    depth = most = dots = 0
+    quote = None
+    i, n = 0, len(text)
+    while i < n:
+        c = text[i]
+        if quote:
+            if c == "\\" and quote == '"':
+                i += 2
+                continue
+            if c == quote or c == "\n":
+                quote = None
+        elif c in "\"'":
+            quote = c
+        elif c == "#":
+            j = text.find("\n", i)
+            i = n if j < 0 else j
+            continue
+        elif c in "[{":
+            depth += 1
+        elif c in "]}":
+            depth -= 1
+            dots = 0
+        elif c == "." and not (0 < i < n - 1 and text[i - 1].isdigit() and text[i + 1].isdigit()):
+            dots += 1
+        elif c in "=,\n":
+            dots = 0
+        most = max(most, depth + dots)
+        i += 1
+    return most
+
+
+def scene_from_text(text: str, where: str = "") -> Scene:
+    """Build a scene from TOML text (never from a file: a tape's scene is text).
+
+    ``where`` (a file name and ": ") starts every error message. Text larger
+    than MAX_SCENE_BYTES, or nested deeper than MAX_SCENE_DEPTH, is refused
+    before it is parsed.
+    """
+    if not isinstance(text, str):
+        raise SunsetError(f"{where}a scene must be TOML text, got {type(text).__name__}")
+    if len(text) > MAX_SCENE_BYTES:
+        raise SunsetError(f"{where}scene larger than {MAX_SCENE_BYTES // 1024} KiB")
+    if _depth(text) > MAX_SCENE_DEPTH:
+        raise SunsetError(f"{where}malformed TOML (nested deeper than {MAX_SCENE_DEPTH} levels)")
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SunsetError(f"{where}malformed TOML ({shown(str(exc))})") from None
+    except RecursionError:
+        raise SunsetError(f"{where}malformed TOML (nested too deep)") from None
+    try:
+        return Scene.from_dict(data)
+    except SunsetError as exc:
+        raise SunsetError(f"{where}{exc}") from None
+    except RecursionError:
+        raise SunsetError(f"{where}scene nested too deep") from None
+
+
 def load_named_scene(name: str) -> Scene:
     """Load a scene shipped in ``sunset/scenes/`` by name (without .toml)."""
     if not isinstance(name, str) or name not in scene_names():
         raise SunsetError(f"no scene named {name!r} in the package (packaged scenes: {', '.join(scene_names())})")
     ref = resources.files("sunset") / "scenes" / f"{name}.toml"
     try:
-        return Scene.from_toml(ref.read_text(encoding="utf-8"))
+        return scene_from_text(ref.read_text(encoding="utf-8"))
     except SunsetError as exc:   # pragma: no cover - tests load every packaged scene
         raise SunsetError(f"packaged scene {name}: {exc}") from None
 
@@ -238,28 +312,37 @@ def _join(path: str, name: str) -> str:
 def _convert(value, typ, where: str):
     if typ is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise SunsetError(f"{where} must be a number, got {value!r}")
+            raise SunsetError(f"{where} must be a number, got {shown(value)}")
         if isinstance(value, float) and math.isnan(value):
             raise SunsetError(f"{where} must be a finite number, got nan")
-        return float(value)
+        try:
+            return float(value)
+        except OverflowError:
+            raise SunsetError(f"{where} must be a finite number, got an integer of "
+                              f"{len(str(abs(value)))} digits") from None
     if typ is int:
         if isinstance(value, bool) or not isinstance(value, int):
-            raise SunsetError(f"{where} must be an integer, got {value!r}")
+            raise SunsetError(f"{where} must be an integer, got {shown(value)}")
         return value
     if typ is str:
         if not isinstance(value, str):
-            raise SunsetError(f"{where} must be a string, got {value!r}")
+            raise SunsetError(f"{where} must be a string, got {shown(value)}")
         return value
     raise TypeError(f"unsupported field type {typ!r}")  # pragma: no cover - programming error
 
 
+#: The most entries of an array of tables, checked before they are built.
+_MAX_ITEMS = {(Scene, "islands"): MAX_ISLANDS, (Sea, "trains"): MAX_TRAINS, (Island, "cosines"): MAX_COSINES,
+              (Clouds, "cells"): CLOUD_MAX_CELLS, (CloudCell, "billows"): MAX_COSINES}
+
+
 def _build(cls, data, path: str):
     if not isinstance(data, dict):
-        raise SunsetError(f"{path or 'scene'} must be a table, got {data!r}")
+        raise SunsetError(f"{path or 'scene'} must be a table, got {shown(data)}")
     fields = _file_fields(cls)
     unknown = sorted(set(data) - set(fields))
     if unknown:
-        raise SunsetError(f"unknown key {_join(path, unknown[0])!r}" + (f" (expected one of: {', '.join(fields)})"))
+        raise SunsetError(f"unknown key {shown(repr(_join(path, unknown[0])))}" + (f" (expected one of: {', '.join(fields)})"))
     nested = _NESTED.get(cls, {})
     types = _field_types(cls)
     kwargs = {}
@@ -276,6 +359,9 @@ def _build(cls, data, path: str):
             if origin is tuple:
                 if not isinstance(value, list):
                     raise SunsetError(f"{where} must be an array of tables")
+                most = _MAX_ITEMS.get((cls, name))
+                if most is not None and len(value) > most:
+                    raise SunsetError(f"{where} must hold at most {most} entries, got {len(value)}")
                 kwargs[name] = tuple(_build(sub, v, f"{where}[{i}]") for i, v in enumerate(value))
             else:
                 kwargs[name] = _build(sub, value, where)

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import RADIANS_PER_HOUR, SUN_PAPER_RADIUS_DEGREES
-from ..errors import SunsetError, require_finite, require_positive
+from ..constants import MAX_DEGREES, MIN_SUN_RADIUS, RADIANS_PER_HOUR, SUN_PAPER_RADIUS_DEGREES
+from ..errors import SunsetError, require_finite, require_positive, require_range
 
 
 @dataclass(frozen=True)
@@ -41,11 +41,13 @@ class Sun:
     radius: float = SUN_PAPER_RADIUS_DEGREES
 
     def __post_init__(self):
-        require_finite("azimuth", self.azimuth)
+        require_range("azimuth", self.azimuth, -MAX_DEGREES, MAX_DEGREES, "degrees")
         require_finite("tilt", self.tilt)
         if not 0.0 < self.tilt <= 90.0:
             raise SunsetError(f"tilt must be in (0, 90] degrees, got {self.tilt!r}")
         require_positive("radius", self.radius)
+        if self.radius < MIN_SUN_RADIUS:
+            raise SunsetError(f"radius must be at least {MIN_SUN_RADIUS:g} degrees, got {self.radius!r}")
         if self.radius >= 10.0:
             raise SunsetError(f"radius must be below 10 degrees, got {self.radius!r}")
 

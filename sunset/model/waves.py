@@ -34,8 +34,9 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..constants import GRAVITY, MIN_WAVELENGTH
-from ..errors import SunsetError, require_finite, require_int_range, require_nonnegative, require_positive
+from ..constants import GRAVITY, MAX_DEGREES, MAX_PHASE, MAX_TRAINS, MAX_WAVE_SLOPE, MAX_WAVELENGTH, MIN_WAVELENGTH
+from ..errors import (SunsetError, require_finite, require_int_range, require_nonnegative, require_positive,
+                      require_range)
 from .stokes import stokes_coefficients
 
 #: Largest denominator accepted when :attr:`Sea.period` looks for the rational
@@ -79,8 +80,13 @@ class WaveTrain:
         if self.wavelength < MIN_WAVELENGTH:
             raise SunsetError(f"wavelength must be at least {MIN_WAVELENGTH:g} m (shorter ripples are "
                               f"capillary waves, outside deep-water gravity dispersion), got {self.wavelength!r}")
-        require_finite("direction", self.direction)
-        require_finite("phase", self.phase)
+        if self.wavelength > MAX_WAVELENGTH:
+            raise SunsetError(f"wavelength must be at most {MAX_WAVELENGTH:g} m, got {self.wavelength!r}")
+        if self.amplitude * 2.0 * math.pi / self.wavelength > MAX_WAVE_SLOPE:
+            raise SunsetError(f"amplitude must be at most wavelength/2π = {self.wavelength / (2 * math.pi):.4g} m "
+                              f"(a first-harmonic slope k·a of {MAX_WAVE_SLOPE:g}), got {self.amplitude!r}")
+        require_range("direction", self.direction, -MAX_DEGREES, MAX_DEGREES, "degrees")
+        require_range("phase", self.phase, -MAX_PHASE, MAX_PHASE, "radians")
         require_int_range("stokes_order", self.stokes_order, 1, 4)
         require_positive("gravity", self.gravity)
 
@@ -192,6 +198,8 @@ class Sea:
     def __post_init__(self):
         require_positive("gravity", self.gravity)
         trains = tuple(self.trains)
+        if len(trains) > MAX_TRAINS:
+            raise SunsetError(f"trains must hold at most {MAX_TRAINS} entries, got {len(trains)}")
         for i, t in enumerate(trains):
             if not isinstance(t, WaveTrain):
                 raise SunsetError(f"trains[{i}] must be a WaveTrain, got {t!r}")

@@ -25,8 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_FPS, MAX_TAPE_BYTES
+from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_CYCLE_FRAMES, MAX_FPS, MAX_TAPE_BYTES
 from ..errors import SunsetError, require_finite, require_int_range
+from ..io import all_or_nothing
 from ..tape.tapefile import Tape, write_tape
 
 from ..model.scene import SceneLike
@@ -78,7 +79,7 @@ def _mp4_writer(path, size: tuple[int, int], fps: int):
 
     writer = imageio_ffmpeg.write_frames(str(path), size, fps=fps, codec="libx264", pix_fmt_in="rgb24",
                                          pix_fmt_out="yuv420p", quality=None, macro_block_size=1,
-                                         ffmpeg_log_level="error", output_params=_film_params())
+                                         ffmpeg_log_level="quiet", output_params=_film_params())
     writer.send(None)
     return writer
 
@@ -242,6 +243,56 @@ def _check_film(path_mp4, path_preview, from_hours: float, to_hours: float, cycl
     return path_mp4, path_preview
 
 
+class _quiet_ffmpeg_log:
+    """Drop imageio-ffmpeg's "No frames have been written" warning: an interrupted film is removed anyway."""
+
+    def __enter__(self):
+        import logging
+
+        self.logger = logging.getLogger("imageio_ffmpeg")
+        self.logger.addFilter(self.filter)
+        return self
+
+    @staticmethod
+    def filter(record) -> bool:
+        return "No frames have been written" not in record.getMessage()
+
+    def __exit__(self, *exc):
+        self.logger.removeFilter(self.filter)
+        return False
+
+
+def count_video_frames(path: str | os.PathLike) -> int | None:
+    """The number of video frames in a film file, read from its packets (not decoded); None if unreadable."""
+    import subprocess
+
+    import imageio_ffmpeg
+
+    cmd = [imageio_ffmpeg.get_ffmpeg_exe(), "-v", "error", "-nostdin", "-i", str(path), "-map", "0:v:0",
+           "-c", "copy", "-f", "framecrc", "-"]
+    try:
+        proc = subprocess.run(cmd, capture_output=True, timeout=600)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    if proc.returncode != 0 or proc.stderr.strip():
+        return None
+    return sum(1 for line in proc.stdout.splitlines() if line and not line.startswith(b"#"))
+
+
+def _check_encoded(tmp, path_mp4, total: int) -> None:
+    """Raise :class:`SunsetError` unless the encoder's file holds all ``total`` frames.
+
+    ffmpeg's exit status is not reported by the pipe writer, and a full disk
+    can leave a file without its index; so the file itself is read back
+    (packets only, no decoding) before it may replace anything.
+    """
+    got = count_video_frames(tmp)
+    if got != total:
+        found = "an unreadable file" if got is None else f"{got} of {total} frames"
+        raise SunsetError(f"{path_mp4}: cannot write the film (the encoder wrote {found}; is the disk full?)")
+
+
+@all_or_nothing()
 def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.PathLike | None = None,
                from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, cycles: int = FILM_CYCLES,
                fps: int = FILM_FPS, progress: bool = True, preview_width: int = PREVIEW_WIDTH) -> list[Path]:
@@ -275,7 +326,8 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
     Returns
     -------
     list of Path
-        The files written. Both are written atomically.
+        The files written. Both are written atomically and land together:
+        if the preview fails, the film is not written either.
     """
     path_mp4, path_preview = _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps, preview_width)
     cam = tape.scene.camera
@@ -284,6 +336,7 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
                        progress=progress, preview_width=preview_width)
 
 
+@all_or_nothing()
 def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.PathLike,
                 path_preview: str | os.PathLike | None = None, fps: int = FILM_FPS, progress: bool = True,
                 preview_width: int = PREVIEW_WIDTH) -> list[Path]:
@@ -291,23 +344,28 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
 
     The encoder behind :func:`write_film`, and behind the RGB back end's film
     (``sunset film --shading rgb``); see :func:`write_film` for the formats.
-    Both files are written atomically.
+    Both files are written atomically and land together (or neither does).
     """
     from ..io import atomic_write
 
     step = max(1, -(-total // PREVIEW_FRAMES))
     preview = []
     size = (size[0] + size[0] % 2, size[1] + size[1] % 2)
-    with atomic_write(path_mp4) as tmp, _bar(total, "filming", progress) as bar:
-        writer = _mp4_writer(tmp, size, fps)
+    with atomic_write(path_mp4) as tmp, _bar(total, "filming", progress) as bar, _quiet_ffmpeg_log():
         try:
-            for j, rgb in enumerate(frames):
-                writer.send(_even(rgb))
-                if path_preview is not None and j % step == 0:
-                    preview.append(_preview_image(rgb, preview_width))
-                bar.update(1)
-        finally:
-            writer.close()
+            writer = _mp4_writer(tmp, size, fps)
+            try:
+                for j, rgb in enumerate(frames):
+                    writer.send(_even(rgb))
+                    if path_preview is not None and j % step == 0:
+                        preview.append(_preview_image(rgb, preview_width))
+                    bar.update(1)
+            finally:
+                writer.close()
+        except OSError as exc:               # ffmpeg stopped reading: a full disk, a killed encoder
+            raise SunsetError(f"{path_mp4}: cannot write the film (the encoder stopped: "
+                              f"{str(exc).splitlines()[0] if str(exc).strip() else 'no reason given'})") from None
+        _check_encoded(tmp, path_mp4, total)
     written = [Path(path_mp4)]
     if path_preview is not None:
         import io
@@ -338,16 +396,20 @@ def make_film(scene: SceneLike, path_mp4: str | os.PathLike, path_preview: str |
     scene file. Returns the files written (MP4, then the preview and the tape
     if asked).
     """
-    from ..io import check_writable
+    from ..io import all_or_nothing, check_distinct, check_writable
     from ..model.scene import as_scene
 
     scene = as_scene(scene)
     _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps)
     if tape_path is not None:
         check_writable(tape_path)
-    tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress, workers=workers)
-    written = write_film(tape, path_mp4, path_preview, from_hours=from_hours, to_hours=to_hours, cycles=cycles,
-                         fps=fps, progress=progress)
-    if tape_path is not None:
-        written.append(write_tape(tape_path, tape))
+    check_distinct({"the film": path_mp4, "the preview": path_preview, "the tape": tape_path})
+    require_int_range("frames", frames, 1, MAX_CYCLE_FRAMES)
+    tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress,
+                        workers=workers)
+    with all_or_nothing():                   # the film, its preview and the tape land together, or none
+        written = write_film(tape, path_mp4, path_preview, from_hours=from_hours, to_hours=to_hours,
+                             cycles=cycles, fps=fps, progress=progress)
+        if tape_path is not None:
+            written.append(write_tape(tape_path, tape))
     return written

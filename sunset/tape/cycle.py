@@ -44,6 +44,34 @@ def _code_frame_task(args):
         return code_frame(*args, islands=_WORKER.get("islands"))
 
 
+def _worker_ignores_interrupts():
+    """Ctrl-C (or a signal to the process group) reaches the workers too: only the parent reports it.
+
+    The parent then cancels the frames not yet begun, and the workers end
+    after the frame they are rendering (:func:`code_frames`).
+    """
+    import signal
+
+    for sig in _STOP_SIGNALS:
+        signal.signal(sig, signal.SIG_IGN)
+    if _STOP_SIGNALS and hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)     # blocked by the parent around the fork
+
+
+def _start_quiet_worker(islands) -> None:
+    _worker_ignores_interrupts()
+    _start_worker(islands)
+
+
+def _stop_signals():
+    import signal
+
+    return tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+_STOP_SIGNALS = _stop_signals()
+
+
 def usable_cpus() -> int:
     """The CPUs this process may run on (its affinity mask where the platform has one)."""
     import os
@@ -94,6 +122,7 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     """
     import multiprocessing
     import sys
+    import threading
     from concurrent.futures import ProcessPoolExecutor
 
     times = [float(t) for t in times]
@@ -120,8 +149,27 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     # process that has threads (BLAS has), so there the forkserver starts the workers
     method = "fork" if "fork" in methods and sys.version_info < (3, 12) else (
         "forkserver" if "forkserver" in methods else "spawn")
-    with ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method),
-                             initializer=_start_worker, initargs=(islands,)) as pool:
-        for i, codes in enumerate(pool.map(_code_frame_task, rest), start=1):
+    import signal
+
+    pool = ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method),
+                               initializer=_start_quiet_worker, initargs=(islands,))
+    # A signal that arrives while the workers are forked would run the parent's handler inside an
+    # at-fork callback, which swallows its exception (the interrupt would be lost) or kill a child
+    # before it ignores signals: they are held back until the workers exist, then delivered here.
+    block = hasattr(signal, "pthread_sigmask") and threading.current_thread() is threading.main_thread()
+    if block:
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+    try:
+        try:
+            results = pool.map(_code_frame_task, rest)
+        finally:
+            if block:
+                signal.pthread_sigmask(signal.SIG_SETMASK, held)
+        for i, codes in enumerate(results, start=1):
             put(i, codes)
+    except BaseException:                    # Ctrl-C, SIGTERM, an error: no new frames; the workers finish theirs
+        # (killing a worker while it sends its frame back would leave the pool's reader waiting forever)
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
     return out

@@ -6,29 +6,34 @@ again and again through changing colour tables. A :class:`Tape` is that
 tape, plus what a reader needs to reproduce it: the scene (as TOML), the
 times, the reflection mode, the dither seed and the package version.
 
-File format (version 1)
+File format (version 2)
 -----------------------
 All integers little-endian::
 
-    offset  size  content
-    0       8     magic b"SUNTAPE\\x1a"
-    8       4     format version (uint32), 1
-    12      8     header length L (uint64)
-    20      L     header: UTF-8 JSON, keys sorted, no whitespace
-    20 + L  N·H·W the codes, uint8, frame by frame, row by row
+    offset        size   content
+    0             8      magic b"SUNTAPE\\x1a"
+    8             4      format version (uint32), 2
+    12            8      header length L (uint64), at most MAX_TAPE_HEADER_BYTES
+    20            L      header: UTF-8 JSON, keys sorted, no whitespace
+    20 + L        N·H·W  the codes, uint8, frame by frame, row by row
+    20 + L + NHW  32     SHA-256 of every byte before it
 
 The header holds ``frames``, ``height``, ``width``, ``times`` (seconds, as
 JSON numbers, which round-trip float64 exactly), ``reflections``, ``seed``,
-``scene`` (TOML text), ``sunset_version``, ``provenance`` (the versions of
-sunset, Python, NumPy, Numba and colour-science that wrote it; readers
-ignore it, and tapes without it read as before) and ``codes_sha256`` (a
-checksum of the codes). There is no timestamp: the same tape gives the same
-bytes.
+``scene`` (the scene's TOML text: never a path), ``sunset_version`` and
+``provenance`` (the versions of sunset, Python, NumPy, Numba and
+colour-science that wrote it; readers ignore it).
+The checksum covers the whole file, header included: one flipped bit
+anywhere is found. There is no timestamp: the same tape gives the same bytes.
+A tape is read as a stream, with its size checked against the header before
+the codes are read, so a damaged or hostile tape never costs more memory than
+its codes (at most MAX_TAPE_BYTES).
 """
 
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import os
 import struct
@@ -37,10 +42,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constants import TAPE_FORMAT_VERSION
-from ..errors import SunsetError, require_finite, require_int_range
+from ..constants import MAX_TAPE_BYTES, MAX_TAPE_HEADER_BYTES, TAPE_FORMAT_VERSION
+from ..errors import SunsetError, require_finite, require_int_range, shown
 
-__all__ = ["Tape", "MAGIC", "tape_bytes", "parse_tape", "write_tape", "read_tape"]
+__all__ = ["Tape", "MAGIC", "tape_bytes", "parse_tape", "read_tape_stream", "write_tape", "read_tape"]
 
 #: The first eight bytes of every tape file.
 MAGIC = b"SUNTAPE\x1a"
@@ -122,10 +127,13 @@ class Tape:
                 and self.codes.shape == other.codes.shape and np.array_equal(self.codes, other.codes))
 
 
+_DIGEST_SIZE = 32
+_CHUNK = 1 << 24
+
+
 def _header(tape: Tape) -> dict:
     n, h, w = tape.codes.shape
     return {
-        "codes_sha256": hashlib.sha256(tape.codes.tobytes()).hexdigest(),
         "frames": n,
         "height": h,
         "reflections": int(tape.reflections),
@@ -138,77 +146,164 @@ def _header(tape: Tape) -> dict:
     }
 
 
-def tape_bytes(tape: Tape) -> bytes:
-    """The tape file's bytes (format version 1); the same tape gives the same bytes."""
+def _head_bytes(tape: Tape) -> bytes:
     header = json.dumps(_header(tape), sort_keys=True, separators=(",", ":"), ensure_ascii=False,
                         allow_nan=False).encode("utf-8")
-    return _PREFIX.pack(MAGIC, TAPE_FORMAT_VERSION, len(header)) + header + tape.codes.tobytes()
+    return _PREFIX.pack(MAGIC, TAPE_FORMAT_VERSION, len(header)) + header
 
 
-def parse_tape(data: bytes, name: str = "tape") -> Tape:
-    """Read a tape from its bytes; ``name`` (a path) starts every error message."""
-    from ..model.scene import Scene
+def tape_bytes(tape: Tape) -> bytes:
+    """The tape file's bytes (format version 2); the same tape gives the same bytes."""
+    body = _head_bytes(tape) + tape.codes.tobytes()
+    return body + hashlib.sha256(body).digest()
 
-    if len(data) < _PREFIX.size or data[:8] != MAGIC:
-        if len(data) < _PREFIX.size and MAGIC.startswith(data[:8]):
-            raise SunsetError(f"{name}: truncated tape ({len(data)} bytes, shorter than its {_PREFIX.size}-byte prefix)")
-        raise SunsetError(f"{name}: not a sunset tape (bad magic bytes)")
-    _, version, hlen = _PREFIX.unpack_from(data)
-    if version != TAPE_FORMAT_VERSION:
-        raise SunsetError(f"{name}: tape format version {version} is not supported "
-                          f"(this sunset reads version {TAPE_FORMAT_VERSION})")
-    start = _PREFIX.size + hlen
-    if len(data) < start:
-        raise SunsetError(f"{name}: truncated tape (header of {hlen} bytes, file has {len(data) - _PREFIX.size})")
+
+def _read_exactly(fh, count: int, name: str, what: str) -> bytes:
+    data = fh.read(count)
+    if len(data) != count:
+        raise SunsetError(f"{name}: truncated tape ({what})")
+    return data
+
+
+def _header_fields(head, name: str):
+    from ..model.scene import scene_from_text
+
+    if not isinstance(head, dict):
+        raise SunsetError(f"{name}: damaged tape header (not a JSON object)")
     try:
-        head = json.loads(data[_PREFIX.size:start].decode("utf-8"))
-        n, h, w = int(head["frames"]), int(head["height"]), int(head["width"])
-        scene = Scene.from_toml(head["scene"])
+        dims = [head["frames"], head["height"], head["width"]]
+        for key, v in zip(("frames", "height", "width"), dims):
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise SunsetError(f"{key} must be a positive integer, got {shown(v)}")
+        if not isinstance(head["scene"], str):
+            raise SunsetError("scene must be TOML text")
+        if not isinstance(head["times"], list):
+            raise SunsetError("times must be a list")
+        reflections, seed = head["reflections"], head["seed"]
+        for key, v in (("reflections", reflections), ("seed", seed)):
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise SunsetError(f"{key} must be an integer, got {shown(v)}")
         times = np.array(head["times"], dtype=np.float64)
-        reflections, seed = int(head["reflections"]), int(head["seed"])
-        version, digest = str(head["sunset_version"]), str(head["codes_sha256"])
+        version = str(head["sunset_version"])
         made_by = head.get("provenance", {})
         if not isinstance(made_by, dict):
-            raise TypeError(f"provenance must be a table, got {made_by!r}")
+            raise SunsetError(f"provenance must be a table, got {shown(made_by)}")
     except SunsetError as exc:
         raise SunsetError(f"{name}: damaged tape header ({exc})") from None
-    except (ValueError, KeyError, TypeError, UnicodeDecodeError) as exc:
-        raise SunsetError(f"{name}: damaged tape header ({type(exc).__name__}: {exc})") from None
-    size = n * h * w
-    payload = data[start:]
-    if len(payload) < size:
-        raise SunsetError(f"{name}: truncated tape (expected {size} bytes of codes, found {len(payload)})")
-    if len(payload) > size:
-        raise SunsetError(f"{name}: damaged tape ({len(payload) - size} bytes after the codes)")
-    if hashlib.sha256(payload).hexdigest() != digest:
-        raise SunsetError(f"{name}: damaged tape (the codes do not match their checksum)")
-    codes = np.frombuffer(payload, dtype=np.uint8).reshape(n, h, w).copy()
+    except (ValueError, KeyError, TypeError, OverflowError) as exc:
+        raise SunsetError(f"{name}: damaged tape header ({type(exc).__name__}: {shown(str(exc))})") from None
+    return dims, head["scene"], times, reflections, seed, version, made_by, scene_from_text
+
+
+def read_tape_stream(fh, name: str = "tape", size: int | None = None) -> Tape:
+    """Read a tape from a binary stream of ``size`` bytes; ``name`` (a path) starts every error message.
+
+    The prefix and the header are read first and checked (the header's
+    length, its JSON, its dimensions against the file's size and against
+    MAX_TAPE_BYTES); then the codes are read into their array in chunks while
+    the checksum of the whole file is computed, and compared with the one at
+    its end.
+    """
+    prefix = fh.read(_PREFIX.size)
+    if len(prefix) < _PREFIX.size or prefix[:8] != MAGIC:
+        if len(prefix) < _PREFIX.size and MAGIC.startswith(prefix[:8]):
+            raise SunsetError(f"{name}: truncated tape ({len(prefix)} bytes, shorter than its "
+                              f"{_PREFIX.size}-byte prefix)")
+        raise SunsetError(f"{name}: not a sunset tape (bad magic bytes)")
+    _, version, hlen = _PREFIX.unpack(prefix)
+    if version != TAPE_FORMAT_VERSION:
+        raise SunsetError(f"{name}: tape format version {version} is not supported "
+                          f"(this sunset reads version {TAPE_FORMAT_VERSION}; render the tape again)")
+    if hlen > MAX_TAPE_HEADER_BYTES:
+        raise SunsetError(f"{name}: damaged tape header ({hlen} bytes, at most {MAX_TAPE_HEADER_BYTES})")
+    if size is not None and size < _PREFIX.size + hlen:
+        raise SunsetError(f"{name}: truncated tape (header of {hlen} bytes, file has {size - _PREFIX.size})")
+    raw = _read_exactly(fh, hlen, name, f"header of {hlen} bytes")
+    digest = hashlib.sha256(prefix)
+    digest.update(raw)
     try:
-        return Tape(scene=scene, codes=codes, times=times, reflections=reflections, seed=seed, version=version,
-                    provenance={str(k): str(v) for k, v in made_by.items()})
+        head = json.loads(raw.decode("utf-8"))
+    except RecursionError:
+        raise SunsetError(f"{name}: damaged tape header (nested too deep)") from None
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise SunsetError(f"{name}: damaged tape header ({type(exc).__name__}: {shown(str(exc))})") from None
+    (n, h, w), scene_text, times, reflections, seed, version, made_by, scene_from_text = \
+        _header_fields(head, name)
+    count = n * h * w
+    if count > MAX_TAPE_BYTES:
+        raise SunsetError(f"{name}: damaged tape ({n} frames of {w}x{h} is more than the "
+                          f"{MAX_TAPE_BYTES / 2**30:g} GiB a tape may hold)")
+    if size is not None:
+        expected = _PREFIX.size + hlen + count + _DIGEST_SIZE
+        if size < expected:
+            raise SunsetError(f"{name}: truncated tape (expected {count} bytes of codes and a "
+                              f"{_DIGEST_SIZE}-byte checksum, found {size - _PREFIX.size - hlen})")
+        if size > expected:
+            raise SunsetError(f"{name}: damaged tape ({size - expected} bytes after the codes)")
+    codes = np.empty(count, dtype=np.uint8)
+    view = memoryview(codes)
+    done = 0
+    while done < count:
+        got = fh.readinto(view[done:done + _CHUNK])
+        if not got:
+            raise SunsetError(f"{name}: truncated tape (expected {count} bytes of codes, found {done})")
+        digest.update(view[done:done + got])
+        done += got
+    stored = fh.read(_DIGEST_SIZE + 1)
+    if len(stored) < _DIGEST_SIZE:
+        raise SunsetError(f"{name}: truncated tape (its checksum is cut off)")
+    if len(stored) > _DIGEST_SIZE:
+        raise SunsetError(f"{name}: damaged tape (bytes after the codes)")
+    if digest.digest() != stored:
+        raise SunsetError(f"{name}: damaged tape (the file does not match its checksum)")
+    try:
+        scene = scene_from_text(scene_text)
+        return Tape(scene=scene, codes=codes.reshape(n, h, w), times=times, reflections=reflections, seed=seed,
+                    version=version, provenance={str(k): str(v) for k, v in made_by.items()})
     except SunsetError as exc:
         raise SunsetError(f"{name}: damaged tape ({exc})") from None
 
 
-def write_tape(path: str | os.PathLike, tape: Tape) -> Path:
-    """Write ``tape`` to ``path`` atomically (temporary file, then rename)."""
-    from ..io import write_bytes
+def parse_tape(data: bytes, name: str = "tape") -> Tape:
+    """Read a tape from its bytes; ``name`` (a path) starts every error message."""
+    return read_tape_stream(io.BytesIO(data), name, len(data))
 
-    write_bytes(path, tape_bytes(tape))
+
+def write_tape(path: str | os.PathLike, tape: Tape) -> Path:
+    """Write ``tape`` to ``path`` atomically (temporary file, then rename), every write checked."""
+    from ..io import atomic_write, _cannot
+
+    head = _head_bytes(tape)
+    digest = hashlib.sha256(head)
+    codes = memoryview(tape.codes.reshape(-1))
+    try:
+        with atomic_write(path) as tmp, open(tmp, "wb") as fh:
+            fh.write(head)
+            for i in range(0, len(codes), _CHUNK):
+                digest.update(codes[i:i + _CHUNK])
+                fh.write(codes[i:i + _CHUNK])
+            fh.write(digest.digest())
+            fh.flush()
+            expected = len(head) + len(codes) + _DIGEST_SIZE
+            if os.fstat(fh.fileno()).st_size != expected:
+                raise OSError(0, "short write")
+    except OSError as exc:
+        raise _cannot(path, exc) from None
     return Path(path)
 
 
 def read_tape(path: str | os.PathLike) -> Tape:
     """Read a tape file; any problem raises :class:`SunsetError` naming the file."""
     path = Path(path)
+    name = shown(path)
     try:
         if path.exists() and not path.is_dir() and not path.is_file():
-            raise SunsetError(f"{path}: not a regular file (a device or a pipe), not a tape file")
-        data = path.read_bytes()
+            raise SunsetError(f"{name}: not a regular file (a device or a pipe), not a tape file")
+        with open(path, "rb") as fh:
+            return read_tape_stream(fh, name, os.fstat(fh.fileno()).st_size)
     except FileNotFoundError:
-        raise SunsetError(f"{path}: no such tape file") from None
+        raise SunsetError(f"{name}: no such tape file") from None
     except IsADirectoryError:
-        raise SunsetError(f"{path}: is a directory, not a tape file") from None
+        raise SunsetError(f"{name}: is a directory, not a tape file") from None
     except OSError as exc:
-        raise SunsetError(f"{path}: cannot read tape ({exc.strerror or exc})") from None
-    return parse_tape(data, str(path))
+        raise SunsetError(f"{name}: cannot read tape ({exc.strerror or exc})") from None

@@ -21,6 +21,7 @@ from ..errors import SunsetError, require_finite
 from ..kernels import row_strips, run_strips, strips, twin
 from ..model.waves import unit_normal
 from .frame import Frame
+from .budget import check_work
 from .heightfield import sampling, sea_gradient_on_scanlines, sea_profile, sea_scan
 from .island_samples import island_scan, probe_refinement
 
@@ -141,6 +142,7 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     strictly nearer.
     """
     require_finite("t", t)
+    check_work(scene)
     t = float(t)
     cam = scene.camera
     W, H, h = cam.width, cam.height, cam.eye_height

@@ -1,8 +1,10 @@
 """Tape files (sunset/tape/tapefile.py): exact round trip, byte identity, clear errors."""
 
+import hashlib
 import json
 import os
 import struct
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -50,8 +52,82 @@ def test_layout_is_as_documented():
     head = json.loads(data[20:20 + hlen])
     assert head["frames"] == 3 and head["height"] == 5 and head["width"] == 7
     assert Scene.from_toml(head["scene"]) == tape.scene
-    assert data[20 + hlen:] == tape.codes.tobytes()
-    assert len(data) == 20 + hlen + 3 * 5 * 7
+    assert data[20 + hlen:-32] == tape.codes.tobytes()
+    assert len(data) == 20 + hlen + 3 * 5 * 7 + 32
+    assert data[-32:] == hashlib.sha256(data[:-32]).digest()        # the whole file, header included
+
+
+def test_every_flipped_bit_is_found():
+    """Issue 12: a flipped bit in the header (tilt 40 -> 50) must not expose another picture."""
+    data = tape_bytes(small_tape())
+    hlen = struct.unpack_from("<Q", data, 12)[0]
+    head = data[20:20 + hlen]
+    i = head.index(b"tilt = 40.0") + len(b"tilt = ")
+    flipped = bytearray(data)
+    flipped[20 + i] ^= ord("4") ^ ord("5")                       # one bit: "4" -> "5"
+    assert b"tilt = 50.0" in bytes(flipped)
+    with pytest.raises(SunsetError, match="checksum"):
+        parse_tape(bytes(flipped), "t")
+    rng = np.random.default_rng(0)
+    for pos in rng.choice(len(data), 40, replace=False):
+        bad = bytearray(data)
+        bad[pos] ^= 1 << int(rng.integers(8))
+        with pytest.raises(SunsetError) as exc:
+            parse_tape(bytes(bad), "t")
+        assert "\n" not in str(exc.value)
+
+
+def forged(head: dict, codes: bytes = b"") -> bytes:
+    """A tape with a valid checksum around an arbitrary header (what a hostile file can do)."""
+    raw = json.dumps(head).encode()
+    body = struct.pack("<8sIQ", MAGIC, TAPE_FORMAT_VERSION, len(raw)) + raw + codes
+    return body + hashlib.sha256(body).digest()
+
+
+def good_header(**change):
+    head = json.loads(tape_bytes(small_tape())[20:-(3 * 5 * 7 + 32)])
+    head.update(change)
+    return head
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"scene": "/etc/passwd"}, ["damaged tape"]),                  # text, never a path
+    ({"frames": -1, "height": -5}, ["frames must be a positive integer"]),
+    ({"frames": True}, ["frames"]),
+    ({"frames": 10**6, "height": 10**6}, ["GiB"]),
+    ({"times": "x"}, ["times"]),
+    ({"reflections": 7}, ["reflections"]),
+])
+def test_forged_headers(change, words):
+    with pytest.raises(SunsetError) as exc:
+        parse_tape(forged(good_header(**change), bytes(3 * 5 * 7)), "f.tape")
+    msg = str(exc.value)
+    assert msg.startswith("f.tape: ") and "\n" not in msg
+    assert "root:" not in msg
+    for w in words:
+        assert w in msg
+
+
+def test_deeply_nested_header_is_one_error():
+    raw = b"[" * 100_000 + b"]" * 100_000
+    body = struct.pack("<8sIQ", MAGIC, TAPE_FORMAT_VERSION, len(raw)) + raw
+    with pytest.raises(SunsetError, match="nested too deep|damaged tape header"):
+        parse_tape(body + hashlib.sha256(body).digest(), "deep")
+
+
+def test_huge_header_length_is_refused_before_reading(tmp_path):
+    path = tmp_path / "big.tape"
+    path.write_bytes(struct.pack("<8sIQ", MAGIC, TAPE_FORMAT_VERSION, 2**62))
+    with pytest.raises(SunsetError, match="damaged tape header"):
+        read_tape(path)
+
+
+def test_tape_is_read_in_a_stream(tmp_path, monkeypatch):
+    """The file is never read whole: the codes go straight into their array."""
+    tape = small_tape()
+    path = write_tape(tmp_path / "a.tape", tape)
+    monkeypatch.setattr(Path, "read_bytes", lambda self: pytest.fail("read whole"))
+    assert read_tape(path).same_as(tape)
 
 
 @pytest.mark.parametrize("keep", [0, 5, 19, 25, -1, -50])
@@ -87,11 +163,14 @@ def test_not_a_tape_damaged_codes_and_trailing_bytes():
     flipped[-1] ^= 0xFF
     with pytest.raises(SunsetError, match="checksum"):
         parse_tape(bytes(flipped), "f")
+    flipped[-40] ^= 0x01                                 # a code
+    with pytest.raises(SunsetError, match="checksum"):
+        parse_tape(bytes(flipped), "f")
     with pytest.raises(SunsetError, match="after the codes"):
         parse_tape(data + b"\0", "t")
     head = bytearray(data)
-    head[25] = ord("#")                                   # break the JSON
-    with pytest.raises(SunsetError, match="damaged tape header"):
+    head[25] = ord("#")                                   # break the JSON (then also its checksum)
+    with pytest.raises(SunsetError, match="damaged tape header|checksum"):
         parse_tape(bytes(head), "h")
 
 

@@ -1,0 +1,125 @@
+"""What the command line does so that no error, signal or odd install turns into a traceback.
+
+* :func:`signals_stop_the_command`: Ctrl-C, SIGTERM and SIGHUP become exceptions
+  (``KeyboardInterrupt``, :class:`Interrupted`), so the atomic writer removes
+  its temporary files on the way out; the stop is also noted in
+  :mod:`sunset.io`, so that a stop whose exception Python swallowed (in an
+  at-fork hook or a destructor) still keeps every output from landing, and is
+  reported once (:func:`check_stop`), not as an "Exception ignored" trace.
+* :func:`one_line`: an error message as one short line.
+* :func:`silenced_stdout`: after standard output failed (``sunset scene >
+  /dev/full``), Python's own flush at exit must not report it again.
+* :func:`config_fallback`: a read-only install with no writable HOME gets a
+  private matplotlib folder instead of two lines of warnings on every command.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import sys
+
+__all__ = ["MAX_MESSAGE", "Interrupted", "signals_stop_the_command", "check_stop", "one_line", "silenced_stdout",
+           "config_fallback"]
+
+#: The longest error line the command prints, characters.
+MAX_MESSAGE = 400
+
+#: The signals that stop a command (with exit status 128 + the signal's number).
+STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+class Interrupted(BaseException):
+    """A signal (SIGTERM, SIGHUP) turned into an exception, so that temporary files are removed on the way out."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _on_signal(signum, frame):
+    from .io import note_stop
+
+    exc = KeyboardInterrupt() if signum == signal.SIGINT else Interrupted(signum)
+    note_stop(exc)                       # should the exception be swallowed, no output lands all the same
+    raise exc
+
+
+def check_stop() -> None:
+    """Raise the noted stop, if a signal came whose exception was swallowed."""
+    if "sunset.io" in sys.modules:
+        sys.modules["sunset.io"]._check_stop()
+
+
+@contextlib.contextmanager
+def signals_stop_the_command():
+    """Inside the block the stop signals raise; afterwards the old handlers and hooks are back."""
+    import threading
+
+    handlers = {}
+    if threading.current_thread() is threading.main_thread():
+        for sig in STOP_SIGNALS:
+            handlers[sig] = signal.signal(sig, _on_signal)
+    hook = sys.unraisablehook
+
+    def quiet_stops(unraisable):         # a stop swallowed by Python is reported once, by main, not as a trace
+        if not issubclass(unraisable.exc_type, (KeyboardInterrupt, Interrupted)):
+            hook(unraisable)
+
+    sys.unraisablehook = quiet_stops
+    try:
+        yield
+    finally:
+        sys.unraisablehook = hook
+        for sig, old in handlers.items():
+            signal.signal(sig, old)
+        if "sunset.io" in sys.modules:
+            sys.modules["sunset.io"].note_stop(None)
+
+
+def one_line(message) -> str:
+    """An error message as one line of at most MAX_MESSAGE characters."""
+    text = " ".join(str(message).split())
+    if len(text) > MAX_MESSAGE:
+        text = text[:MAX_MESSAGE - 5] + " ..."
+    return text
+
+
+class silenced_stdout:
+    """Point stdout at /dev/null, so that Python's flush at exit does not report the same error again."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            os.close(devnull)
+        except (OSError, ValueError, AttributeError):
+            pass
+        sys.stdout = open(os.devnull, "w")
+        return False
+
+
+def config_fallback() -> None:
+    """Give matplotlib (imported by colour-science) a private config folder when HOME's is not writable."""
+    import stat
+    import tempfile
+
+    if "MPLCONFIGDIR" in os.environ:
+        return
+    probe = os.environ.get("XDG_CONFIG_HOME") or os.path.join(os.path.expanduser("~"), ".config")
+    while not os.path.exists(probe) and os.path.dirname(probe) != probe:
+        probe = os.path.dirname(probe)
+    if os.access(probe, os.W_OK | os.X_OK):
+        return
+    path = os.path.join(tempfile.gettempdir(), f"sunset-matplotlib-{os.getuid()}")
+    try:
+        os.makedirs(path, mode=0o700, exist_ok=True)
+        st = os.lstat(path)
+    except OSError:
+        return
+    if stat.S_ISDIR(st.st_mode) and st.st_uid == os.getuid() and not st.st_mode & 0o077:
+        os.environ["MPLCONFIGDIR"] = path
