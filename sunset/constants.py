@@ -280,6 +280,8 @@ RIPPLE_MAX_RAYS = 1 << 23
 RIPPLE_MAX_REACH = 80.0
 #: How many rms slopes the water patch allows for (sunset/light/ripples.py).
 RIPPLE_SLOPE_SIGMAS = 2.0
+#: How far inland of the mean water line an island's shore band runs, metres (sunset/light/shore.py).
+SHORE_INLAND = 120.0
 #: Depths at which the RGB back end tabulates a cloud's light for an hour (sunset/light/lighting.py).
 CLOUD_TABLE_DEPTHS = 64
 

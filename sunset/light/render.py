@@ -84,12 +84,20 @@ def render_rgb(scene, t: float = 0.0, hours: float = 0.35, samples: int = 1, ref
     return shade_display(geometry, frame_light(scene, t, hours), k)
 
 
-def frame_light(scene, t: float, hours: float) -> Lighting:
+def frame_light(scene, t: float, hours: float, shore: bool = False) -> Lighting:
     """The light of one frame: the hour's sky and sun, the scene's clouds, and the ripples of light on its
-    posts at time ``t`` (:func:`sunset.light.ripples.ripple_source`), which depend on the waves' time too."""
+    posts at time ``t`` (:func:`sunset.light.ripples.ripple_source`), which depend on the waves' time too.
+
+    With ``shore=True`` the islands' shores near the water line get the light the waves throw on them as well
+    (:func:`sunset.light.shore.shore_source`, one light tracing per island: off by default, it costs seconds).
+    """
     light = Lighting.for_scene(scene, hours)
     if scene.posts:
         from .ripples import ripple_source
 
         light.extra_irradiance.append(ripple_source(scene, float(t), float(hours), light))
+    if shore and scene.islands:
+        from .shore import shore_source
+
+        light.extra_irradiance.append(shore_source(scene, float(t), float(hours), light))
     return light
