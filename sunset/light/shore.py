@@ -66,7 +66,7 @@ from .fresnel import reflectance, refract
 from .ripples import _splat, rms_slope
 from .water import absorption, scattering
 
-__all__ = ["ShoreTexture", "trace_shore", "water_line", "smooth_surface", "texel_areas", "shore_lookup",
+__all__ = ["ShoreTexture", "trace_shore", "water_line", "radius_at", "smooth_surface", "texel_areas", "shore_lookup",
            "shore_source", "AREA_SUBSAMPLES"]
 
 #: Midpoint-rule points per texel side for the texels' true areas.
