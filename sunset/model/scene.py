@@ -106,7 +106,7 @@ class Scene:
 
         A :class:`~pathlib.Path`, or a string with neither a newline nor an
         ``=``, is a file; any other string is the TOML text itself (see
-        :func:`scene_from_text`, which never reads a file). Raises
+        ``sunset.model.scene.scene_from_text``, which never reads a file). Raises
         :class:`SunsetError` naming the file and the field for any malformed
         or invalid content.
         """
