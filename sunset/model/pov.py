@@ -44,6 +44,10 @@ green + what it reflects a direct ray to the sea (green <0, 1, 0>), plus the
 
 (:func:`sunset.figures.povray.pov_classes` reads a rendered picture back in
 these terms.)
+
+What is not exported: a scene's clouds and posts (the file says so in a
+comment when the scene has them), and the sun, whose light the flat colours
+do not need.
 """
 
 from __future__ import annotations
@@ -170,6 +174,8 @@ def pov_scene(scene: Scene, t: float = 0.0) -> str:
         f"// {scene.title or 'sunset scene'} at t = {_n(t)} s, written by `sunset export pov` for POV-Ray 3.7.",
         "// This package's point (x, y, z) (x right, y forward, z up) is POV-Ray's <x, z, y>.",
         f"// Render at the scene's size: povray +I<this file> +W{cam.width} +H{cam.height} -A +FN",
+        *([f"// not exported: {', '.join(k for k, v in (('clouds', scene.clouds), ('posts', scene.posts)) if v)}"]
+          if scene.clouds is not None or scene.posts else []),
         "#version 3.7;",
         "global_settings { assumed_gamma 1.0 max_trace_level 3 ambient_light 0 }",
         f"background {{ rgb {sky} }}",

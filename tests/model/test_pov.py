@@ -160,3 +160,10 @@ def test_export_on_the_command_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 3 and all(line.startswith("sunset: error: ") for line in err)
     assert not bad.exists() and not (tmp_path / "m.pov").exists() and not (tmp_path / "o.pov").exists()
+
+
+def test_what_is_not_exported_is_said():
+    from sunset.model.scene import load_named_scene
+
+    assert "// not exported: clouds" in pov_scene(load_named_scene("carlas-island-clouds").with_size(16, 12))
+    assert "not exported" not in pov_scene(Scene.default().with_size(16, 12))
