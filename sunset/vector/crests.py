@@ -25,8 +25,12 @@ __all__ = ["largest_train", "crest_curvature", "CrestCylinder", "harmonic_sum", 
 
 
 def largest_train(sea: Sea) -> WaveTrain | None:
-    """The train with the largest first-harmonic amplitude (the first on a tie); None for still water."""
-    moving = [t for t in sea.trains if t.amplitude > 0]
+    """The train with the largest first-harmonic amplitude (the first on a tie); None for still water.
+
+    A train so small that its crest curvature underflows to 0 (an amplitude of
+    1e-300 m, say) has no crest to fit a cylinder to: it counts as still water.
+    """
+    moving = [t for t in sea.trains if t.amplitude > 0 and crest_curvature(t) > 0]
     if not moving:
         return None
     return max(moving, key=lambda t: t.amplitude)

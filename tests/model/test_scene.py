@@ -11,7 +11,7 @@ import math
 import re
 import tomllib
 
-from sunset.constants import MAX_DEGREES, MIN_SUN_RADIUS, MIN_WAVELENGTH, SIGMA_MIN
+from sunset.constants import MAX_DEGREES, MAX_PIXELS, MIN_SUN_RADIUS, MIN_WAVELENGTH, SIGMA_MIN
 from importlib import resources
 
 import pytest
@@ -83,8 +83,10 @@ def floats(lo, hi):
 def cameras(draw):
     s_min = draw(floats(-2, 1))
     zy_min = draw(floats(-1, 0.2))
-    return Camera(eye_height=draw(floats(1e-3, 1e3)), width=draw(st.integers(1, 5000)),
-                  height=draw(st.integers(1, 5000)), s_min=s_min, s_max=s_min + draw(floats(1e-3, 3)),
+    width = draw(st.integers(1, 5000))
+    height = draw(st.integers(1, min(5000, MAX_PIXELS // width)))      # the pixel budget of the camera
+    return Camera(eye_height=draw(floats(1e-3, 1e3)), width=width,
+                  height=height, s_min=s_min, s_max=s_min + draw(floats(1e-3, 3)),
                   zy_min=zy_min, zy_max=zy_min + draw(floats(1e-3, 2)), sigma=draw(floats(SIGMA_MIN, 10)))
 
 

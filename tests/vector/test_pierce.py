@@ -643,3 +643,22 @@ def test_reflection_modes_figure(tmp_path):
     with pytest.raises(SunsetError, match="^width "):
         reflection_modes(tmp_path / "c.png", size=(0, 16))
     assert not (tmp_path / "c.png").exists()
+
+
+def test_a_train_too_small_for_a_crest_curvature_counts_as_still_water():
+    """Amplitude 1e-323 m: κ = Σ aₙ(nk)² underflows to 0, which would divide by zero in the crest test."""
+    from dataclasses import replace
+
+    from sunset import kernels
+    from sunset.model.scene import Scene
+    from sunset.model.waves import Sea, WaveTrain
+    from sunset.vector.crests import largest_train
+    from sunset.vector.render import render
+
+    tiny = Sea((WaveTrain(amplitude=1e-323, wavelength=40.0, direction=90.0),))   # k·a rounds to 0
+    assert largest_train(tiny) is None
+    scene = replace(Scene.default().with_size(24, 20), sea=tiny)
+    for flag in (False, True):
+        with kernels.use_compiled(flag):
+            frame = render(scene, 0.0, 2)
+        assert (frame.bounces <= 1).all()
