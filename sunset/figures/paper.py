@@ -74,8 +74,11 @@ def expose_png(tape: Tape, hours: float, path: Path, frame: int = 0, extra: dict
     return save_png(path, rgb, png_metadata(tape.scene, settings))
 
 
-def paper_figure(number: str, out: Path, scene: Scene, seed: int = 0, t: float = 0.0) -> Path:
-    """Write figure ``number`` (4–7) as ``out/figN.png``; Figure 6 also leaves ``fig6.tape``.
+def paper_figure(number: str, out: Path, scene: Scene, seed: int = 0,
+                 t: float = 0.0) -> Path:
+    """Write figure ``number`` (4–7) as ``out/figN.png``.
+
+    Figure 6 also leaves ``fig6.tape``.
 
     Figure 7 reads ``fig6.tape`` when it is there and matches the scene, and
     renders it once otherwise: it never re-renders what Figure 6 computed.
@@ -87,11 +90,15 @@ def paper_figure(number: str, out: Path, scene: Scene, seed: int = 0, t: float =
     tape = None
     if spec.reuses and tape_path.is_file():
         cached = read_tape(tape_path)
-        if cached.scene == scene and cached.seed == seed and float(cached.times[0]) == t:
+        same = cached.scene == scene and cached.seed == seed
+        if same and float(cached.times[0]) == t:
             tape = cached
     if tape is None:
         src = PAPER_FIGURES[source]
-        tape = render_tape(scene.still() if src.still else scene, t, src.reflections, seed)
-        if any(f.reuses == source for f in PAPER_FIGURES.values()):   # another figure re-exposes it
+        source_scene = scene.still() if src.still else scene
+        tape = render_tape(source_scene, t, src.reflections, seed)
+        # another figure re-exposes it
+        if any(f.reuses == source for f in PAPER_FIGURES.values()):
             write_tape(tape_path, tape)
-    return expose_png(tape, spec.hours, out / f"fig{number}.png", extra={"figure": number})
+    return expose_png(tape, spec.hours, out / f"fig{number}.png",
+                      extra={"figure": number})

@@ -91,7 +91,9 @@ def exposure_key(sun_dir) -> float:
 
 
 def eye_response(x) -> np.ndarray:
-    """The display's response to relative luminance x >= 0: a Naka–Rushton curve, in [0, 1).
+    """The display's response to relative luminance x >= 0: a Naka–Rushton curve.
+
+    Values lie in [0, 1).
 
     y = xⁿ / (xⁿ + σⁿ) with n = :data:`~sunset.constants.EYE_RESPONSE_EXPONENT`
     and σ = :data:`~sunset.constants.EYE_SEMI_SATURATION` (Naka & Rushton 1966):

@@ -280,7 +280,8 @@ class Island:
         beach = self.beach.value(x - self.x, y - self.y)
         on_beach = beach >= upper
         height = np.where(on_beach, beach, upper)
-        part = np.where(on_beach, PART_BEACH, np.where(hill, PART_HILL, PART_CLIFF)).astype(np.int8)
+        part = np.where(on_beach, PART_BEACH, np.where(hill, PART_HILL, PART_CLIFF))
+        part = part.astype(np.int8)
         if not with_gradient:
             return height, part
         qx, qy = self._cliff_gradient(x, y, phases)

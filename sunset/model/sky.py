@@ -165,7 +165,8 @@ def _phase_hg(cos_g, g=AEROSOL_ASYMMETRY):
     return (1.0 - g * g) / (4.0 * math.pi * (1.0 + g * g - 2.0 * g * cos_g) ** 1.5)
 
 
-def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN, columns=None) -> np.ndarray:
+def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN,
+                 columns=None) -> np.ndarray:
     """Single-scattered sky radiance seen from sea level, per unit solar irradiance.
 
     L(λ, v) = E₀(λ) ∫ [β_R(λ,h) P_R(γ) + ω β_A(λ,h) P_HG(γ)] T_view T_sun ds,
@@ -208,12 +209,17 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
     dens = _densities(h) * ds[..., None]                 # (K, n, 3)
     view = np.cumsum(dens, axis=1) - 0.5 * dens
     cos_g = np.clip(v @ p, -1.0, 1.0)                   # (K,)
-    # the sun's direction cosine at each sample point (the local vertical is the point's radius)
+    # the sun's direction cosine at each sample point (the local vertical is the
+    # point's radius)
     mu_s = (R * p[2] + s * cos_g[:, None]) / r
-    col = view + (slant_columns(h, mu_s, n_sun) if columns is None else columns(h, mu_s))  # (K, n, 3)
+    if columns is None:
+        col = view + slant_columns(h, mu_s, n_sun)       # (K, n, 3)
+    else:
+        col = view + columns(h, mu_s)
     trans = np.exp(-(col @ sp.tau))                      # (K, n, λ)
-    scat = (dens[..., 0] * _phase_rayleigh(cos_g)[:, None])[..., None] * sp.tau[0] \
-        + (dens[..., 1] * AEROSOL_ALBEDO * _phase_hg(cos_g)[:, None])[..., None] * sp.tau[1]
+    rayleigh = (dens[..., 0] * _phase_rayleigh(cos_g)[:, None])[..., None] * sp.tau[0]
+    aerosol = (dens[..., 1] * AEROSOL_ALBEDO * _phase_hg(cos_g)[:, None])[..., None]
+    scat = rayleigh + aerosol * sp.tau[1]
     return sp.sun * np.sum(scat * trans, axis=1)
 
 
@@ -368,7 +374,8 @@ def sky_dome(sun_dir) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return dirs, np.concatenate([sky, sea]), d_omega
 
 
-def island_normals(sun: Sun, psi, samples: int = ISLAND_NORMAL_SAMPLES) -> tuple[np.ndarray, np.ndarray]:
+def island_normals(sun: Sun, psi, samples: int = ISLAND_NORMAL_SAMPLES
+                   ) -> tuple[np.ndarray, np.ndarray]:
     """The normals an island code stands for, and their weights.
 
     A code keeps only the angle ψ of N's projection on the plane of the
@@ -392,8 +399,9 @@ def island_normals(sun: Sun, psi, samples: int = ISLAND_NORMAL_SAMPLES) -> tuple
     """
     psi = np.asarray(psi, dtype=float).reshape(-1)
     beta = ((np.arange(samples) + 0.5) / samples - 0.5) * math.pi
-    in_plane = np.cos(psi)[:, None] * sun.U + np.sin(psi)[:, None] * sun.V            # (K, 3)
-    n = np.cos(beta)[None, :, None] * in_plane[:, None, :] + np.sin(beta)[None, :, None] * sun.W
+    in_plane = np.cos(psi)[:, None] * sun.U + np.sin(psi)[:, None] * sun.V  # (K, 3)
+    n = (np.cos(beta)[None, :, None] * in_plane[:, None, :]
+         + np.sin(beta)[None, :, None] * sun.W)
     w = np.where(n[..., 2] > 0.0, np.cos(beta)[None, :], 0.0)
     total = w.sum(axis=1, keepdims=True)
     w = np.where(total > 0, w / np.where(total > 0, total, 1.0), 1.0 / samples)

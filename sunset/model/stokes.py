@@ -174,7 +174,8 @@ def _fit(x, y, first: int, stride: int, terms: int) -> np.ndarray:
     return b / scale
 
 
-def expansion_fit(max_height: float = 0.2, samples: int = 16, terms: int = 7, n_modes: int = 48) -> ExpansionFit:
+def expansion_fit(max_height: float = 0.2, samples: int = 16, terms: int = 7,
+                  n_modes: int = 48) -> ExpansionFit:
     """Fit the expansion's low-order coefficients to exact Stokes waves of small height.
 
     Solves ``samples`` exact waves with k·H evenly spaced up to ``max_height``
@@ -204,7 +205,8 @@ def expansion_fit(max_height: float = 0.2, samples: int = 16, terms: int = 7, n_
     require_int_range("terms", terms, 2, 8)
     require_int_range("samples", samples, terms + 2, 200)
     heights = max_height * np.arange(1, samples + 1) / samples
-    waves = [solve_stokes(h / (2 * np.pi), n_modes=n_modes, map_parameter=1.0) for h in heights]
+    waves = [solve_stokes(h / (2 * np.pi), n_modes=n_modes, map_parameter=1.0)
+             for h in heights]
     a = np.array([w.coefficients[:5] for w in waves])
     al = a[:, 0]
     c = np.array([w.speed for w in waves])

@@ -121,7 +121,8 @@ def _newton(y, c, height, ops: _Operators):
         with warnings.catch_warnings():
             warnings.simplefilter("error", scipy.linalg.LinAlgWarning)
             try:
-                step = scipy.linalg.lu_solve(scipy.linalg.lu_factor(J, check_finite=False), -F,
+                lu = scipy.linalg.lu_factor(J, check_finite=False)
+                step = scipy.linalg.lu_solve(lu, -F,
                                              check_finite=False)
             except (scipy.linalg.LinAlgWarning, np.linalg.LinAlgError, ValueError):
                 return None
@@ -159,8 +160,9 @@ def _continuation(height: float, ops: _Operators):
             step /= 2.0
             if step < 1e-5:
                 raise SunsetError(
-                    f"steepness {height / (2 * np.pi):.6g}: the exact Stokes solver did not converge "
-                    f"beyond H/λ = {reached / (2 * np.pi):.6g} (too close to the highest wave, "
+                    f"steepness {height / (2 * np.pi):.6g}: the exact Stokes solver "
+                    f"did not converge beyond H/λ = {reached / (2 * np.pi):.6g} "
+                    "(too close to the highest wave, "
                     f"H/λ = {STOKES_MAX_STEEPNESS})")
             continue
         y, c, its = result

@@ -95,7 +95,8 @@ def sun_coverage(camera, sun: Sun, hours: float, supersample: int = SUN_SUPERSAM
         for fz in (-0.5, 0.5):
             corner = _dirs(s + fs * ds, z + fz * dz)
             corners_in &= corner @ p > cos_d
-            half_diag = np.maximum(half_diag, np.arccos(np.clip(np.sum(corner * centre, -1), -1.0, 1.0)))
+            corner_angle = np.arccos(np.clip(np.sum(corner * centre, -1), -1.0, 1.0))
+            half_diag = np.maximum(half_diag, corner_angle)
     above = (z - 0.5 * dz) >= 0.0
     below = (z + 0.5 * dz) <= 0.0
     cov = np.where(corners_in & above, 1.0, 0.0)
@@ -137,8 +138,10 @@ def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
     cam = scene.camera
     if codes.dtype != np.uint8:
         raise SunsetError(f"codes must be uint8, got {codes.dtype}")
-    if codes.shape != (cam.height, cam.width):
-        raise SunsetError(f"codes must have the camera's shape {(cam.height, cam.width)}, got {codes.shape}")
+    shape = (cam.height, cam.width)
+    if codes.shape != shape:
+        raise SunsetError(f"codes must have the camera's shape {shape}, "
+                          f"got {codes.shape}")
     clouds = scene.clouds
     tab = tables(scene.sun, hours, clouds)
     rgb = np.empty(codes.shape + (3,), np.uint8)
@@ -152,5 +155,6 @@ def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
             sun_lin = sun_colour(scene.sun, hours, clouds)
             box = DECODE_LUT[rgb[rows, cols]]
             mixed = (1.0 - weight) * box + weight * sun_lin
-            rgb[rows, cols] = np.where(weight > 0, to_uint8(srgb_encode(mixed)), rgb[rows, cols])
+            rgb[rows, cols] = np.where(weight > 0, to_uint8(srgb_encode(mixed)),
+                                       rgb[rows, cols])
     return rgb

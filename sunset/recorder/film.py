@@ -157,9 +157,13 @@ def film_hours(from_hours: float, to_hours: float, count: int) -> np.ndarray:
     return np.linspace(float(from_hours), float(to_hours), count)
 
 
-def film_frames(tape: Tape, from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS,
+def film_frames(tape: Tape, from_hours: float = FILM_FROM_HOURS,
+                to_hours: float = FILM_TO_HOURS,
                 cycles: int = FILM_CYCLES):
-    """Yield ``(hours, rgb)`` for every film frame: tape frame j mod N through the tables for its hour."""
+    """Yield ``(hours, rgb)`` for every film frame.
+
+    Film frame j shows tape frame j mod N through the tables for its hour.
+    """
     from .dicomed import expose
 
     require_int_range("cycles", cycles, 1)

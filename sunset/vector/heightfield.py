@@ -124,7 +124,8 @@ def sampling(camera, sea_max_elevation: float = 0.0) -> Sampling:
         n = int(math.ceil(1.0 / (y_near * du))) + 1
     else:  # no pixel sees the sea
         n = 0
-    return Sampling(du=du, n=n, y_near=(1.0 / (n * du)) if n else math.inf, y_far=1.0 / du, y_clip=y_clip)
+    y_near = (1.0 / (n * du)) if n else math.inf
+    return Sampling(du=du, n=n, y_near=y_near, y_far=1.0 / du, y_clip=y_clip)
 
 
 # ---------------------------------------------------------------------------
@@ -342,13 +343,15 @@ def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     tmp = np.empty(y.shape, dtype=_F32)
     s32 = s.astype(_F32)
     for l, m, _b, c, amps in _sea_terms(sea, s[:0], t):
-        # b = ℓ s + m per point, in float32 like the rest (one pass less than widening s)
+        # b = ℓ s + m per point, in float32 like the rest (one pass less than
+        # widening s)
         np.multiply(s32, _F32(l), out=th)
         th += _F32(m)
         th *= y
         th += c
         sn = np.sin(th)
-        # Σ_n n a_n sin nθ = sin θ · q(cos θ), q = p′ the derivative of Σ_n a_n T_n (sin nθ = sin θ U_(n−1), n U_(n−1) = T_n′)
+        # Σ_n n a_n sin nθ = sin θ · q(cos θ), q = p′ the derivative of Σ_n a_n T_n
+        # (sin nθ = sin θ U_(n−1), n U_(n−1) = T_n′)
         q = np.polynomial.polynomial.polyder(_chebyshev_power(amps))
         if len(q) > 1:
             cs = np.cos(th, out=th)

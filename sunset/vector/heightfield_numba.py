@@ -19,14 +19,19 @@ from ..kernels import jit as _jit
 
 
 @_jit
-def _scan_row(u, us, g, gs, n, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t, zero_t, K, out):
-    """One scan line: out[k] = 1/yp of pixel k (bottom up), 0 where no sample rises above it."""
+def _scan_row(u, us, g, gs, n, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t,
+              zero_t, K, out):
+    """One scan line: out[k] = 1/yp of pixel k (bottom up).
+
+    0 where no sample rises above it.
+    """
     prof = neg_inf_t
     k = 0
     i = 0
     while i < n and k < K:
         gi = g[gs + i]
-        if not gi > prof:  # np.maximum.accumulate: the profile did not rise, no pixel is reached here
+        # np.maximum.accumulate: the profile did not rise, no pixel is reached here
+        if not gi > prof:
             i += 1
             continue
         prof = gi

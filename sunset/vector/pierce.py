@@ -238,14 +238,17 @@ def island_intervals(island: Island, eye_height: float, q, r) -> dict:
     k = island.hill_factor
     c_in, c_out, c_meets = quadratic_interval(-A, -B - rz, (cl.height - h) - C - qz)
     h_in, h_out, h_meets = quadratic_interval(
-        -k * A, -k * B - rz, (island.cliff_top - h) + k * (cl.height - island.cliff_top - C) - qz)
+        -k * A, -k * B - rz,
+        (island.cliff_top - h) + k * (cl.height - island.cliff_top - C) - qz)
     up_in = np.maximum(c_in, h_in)
     up_out = np.minimum(c_out, h_out)
     up_meets = c_meets & h_meets & (up_in <= up_out)
     bch = island.beach
     b_in, b_out, b_meets = quadratic_interval(
-        *paraboloid_coefficients(q, r, bch.height - h, bch.e, bch.f, bch.g, island.x, island.y))
-    return {"beach": (b_in, b_out, b_meets), "upper": (up_in, up_out, up_meets), "hill_entry": h_in > c_in}
+        *paraboloid_coefficients(q, r, bch.height - h, bch.e, bch.f, bch.g,
+                                 island.x, island.y))
+    return {"beach": (b_in, b_out, b_meets), "upper": (up_in, up_out, up_meets),
+            "hill_entry": h_in > c_in}
 
 
 def pierce_island(island: Island, eye_height: float, q, r):
@@ -308,7 +311,8 @@ def pierce_islands(islands, eye_height: float, q, r):
     for k, island in enumerate(islands, start=1):
         idx, (qk, rk) = gather(island_candidates(island, eye_height, q, r), q, r)
         t, p = pierce_island(island, eye_height, qk, rk)
-        nearer = t < best[idx]  # misses are +inf; entries behind the origin were dropped already
+        # misses are +inf; entries behind the origin were dropped already
+        nearer = t < best[idx]
         idx, (t, p) = idx[nearer], (t[nearer], p[nearer])
         scatter(idx, t, best)
         scatter(idx, k, which)
@@ -393,7 +397,8 @@ def gather(mask, *arrays):
     positions, so that the work that follows runs on dense vectors.
     """
     idx = np.flatnonzero(np.asarray(mask).ravel())
-    return idx, [np.take(np.asarray(a), idx, axis=0) for a in arrays]  # take: rows, fast for (N, 3)
+    # np.take of rows: fast for (N, 3)
+    return idx, [np.take(np.asarray(a), idx, axis=0) for a in arrays]
 
 
 def scatter(idx, values, out) -> np.ndarray:
