@@ -23,7 +23,7 @@ UV          := .venv-lock/bin/uv
 UV_COMPILE  = $(UV) pip compile pyproject.toml --universal --python-version $(LOCK_PYTHON) --generate-hashes \
               --quiet --custom-compile-command 'make lock' $(LOCK_FLAGS)
 
-.PHONY: all figures test book book-check bench bench-player lock clean help
+.PHONY: all figures test book book-check pdf bench bench-player lock clean help
 .DELETE_ON_ERROR:
 
 help:
@@ -32,8 +32,9 @@ help:
 	@echo "make test      run the test suite"
 	@echo "make book      build the Jupyter Book into book/_build/html (BOOK_EXECUTE=force re-runs every chapter)"
 	@echo "make book-check  open every page of the built book in headless Chromium and check it"
+	@echo "make pdf       the whole book as one PDF, book/_build/pdf/sunset-book.pdf (Chromium, offline)"
 	@echo "make bench     time the renderer (writes figures/bench.json)"
-.PHONY: all figures test book book-check bench bench-player lock clean help
+.PHONY: all figures test book book-check pdf bench bench-player lock clean help
 .DELETE_ON_ERROR:
 
 # ---------------------------------------------------------------- the environment
@@ -87,6 +88,9 @@ book: $(VENV)/.stamp-book
 book-check: $(VENV)/.stamp-book
 	$(PY) book/browser_check.py book/_build/html
 
+pdf: $(VENV)/.stamp-book
+	$(PY) book/pdf.py --execute $(BOOK_EXECUTE)
+
 all: figures $(BOOK_STAMP)
 
 test: $(VENV)/.stamp-test
@@ -100,5 +104,5 @@ bench-player: $(VENV)/.stamp-test
 	$(PY) book/browser_check.py --player-bench figures/player.html --out figures/player-bench.json
 
 clean:
-.PHONY: all figures test book book-check bench bench-player lock clean help
+.PHONY: all figures test book book-check pdf bench bench-player lock clean help
 .DELETE_ON_ERROR:

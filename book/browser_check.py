@@ -24,7 +24,18 @@ pages and redirects such as ``index.html``) it checks that
   and put an ``mjx-container`` into every one of them, with no ``mjx-merror``;
 * no raw TeX is left in the rendered text outside code: no ``$$``, ``\\(``,
   ``\\)``, ``\\[``, ``\\]``, and no ``$...$`` holding a TeX command;
-* every ``<img>`` loaded (``complete`` and ``naturalWidth > 0``).
+* every ``<img>`` loaded (``complete`` and ``naturalWidth > 0``);
+* every image of the text is a figure with a caption, and in a numbered
+  chapter the caption is numbered by chapter ("Figure 4.2");
+* glued numbers are set in the text's normal weight, and no number in the
+  prose is left in e-notation ("6.7e-06" instead of "6.7 × 10⁻⁶");
+* nothing overflows the text column, at 1280 px and again at phone width
+  (``PHONE`` px): an element that is wider than the column must sit inside
+  something that scrolls sideways (a wide table, equation or code block
+  scrolls; a figure scales down), and the page itself never scrolls
+  sideways;
+* a code block in the column at 1280 px holds at least ``CODE_COLUMNS``
+  characters, the width that tests/test_book.py allows included code.
 
 Then it checks the colour-table player (sunset/recorder/player.py), on the
 one page that embeds it and in a small file written by ``sunset player`` and
@@ -69,6 +80,10 @@ SKIP_PAGES = {"search.html", "genindex.html", "py-modindex.html"}
 CAMERA_PAGE = "01-camera.html"
 PAGE_TIMEOUT = 60.0  # seconds for one page to load and typeset
 VIEWPORT = (1280, 1000)
+#: The phone's viewport (CSS pixels) for the second layout check.
+PHONE = (390, 844)
+#: Characters a code block must hold at 1280 px (tests/test_book.py's MAX_CODE_WIDTH).
+CODE_COLUMNS = 88
 MAX_SHOT_HEIGHT = 12000
 
 CHROMIUM_FLAGS = [
@@ -130,6 +145,69 @@ PAGE_PROBE = r"""
     }
   }
   return report;
+})()
+"""
+
+#: Runs in the page (after PAGE_PROBE) at the current viewport: what overflows
+#: the text column, glued numbers' weight, e-notation, captions, code width.
+LAYOUT_PROBE = r"""
+(() => {
+  const out = {overflow: [], pagewide: 0, bold: [], enote: [], uncaptioned: [], unnumbered: [],
+               code_columns: null};
+  const article = document.querySelector("article.bd-article") || document.querySelector("main")
+      || document.body;
+  const box = article.getBoundingClientRect();
+  const inside = (r) => r.right <= box.right + 1 && r.left >= box.left - 1;
+  const scrolls = (el) => ["auto", "scroll", "hidden", "clip"].includes(getComputedStyle(el).overflowX);
+  out.pagewide = Math.max(0, document.documentElement.scrollWidth - window.innerWidth);
+  const reported = [];
+  for (const el of article.querySelectorAll("*")) {
+    if (reported.some((r) => r.contains(el))) continue;
+    const r = el.getBoundingClientRect();
+    if (r.width === 0 || r.height === 0 || inside(r)) continue;
+    if (getComputedStyle(el).visibility === "hidden" || getComputedStyle(el).position === "fixed") continue;
+    let p = el.parentElement, contained = false;
+    while (p && p !== article) {
+      if (scrolls(p) && inside(p.getBoundingClientRect())) { contained = true; break; }
+      p = p.parentElement;
+    }
+    if (contained) continue;
+    reported.push(el);
+    const what = el.tagName.toLowerCase() + (el.className && typeof el.className === "string"
+        ? "." + el.className.trim().split(/\s+/).slice(0, 2).join(".") : "");
+    out.overflow.push(`${what} is ${Math.round(r.width)} px wide, the column ${Math.round(box.width)} px ` +
+                      `(${(el.textContent || el.getAttribute("src") || "").trim().slice(0, 50)})`);
+  }
+  for (const el of article.querySelectorAll(".pasted-text, .pasted-inline")) {
+    const w = parseInt(getComputedStyle(el).fontWeight, 10);
+    if (w > 400) { out.bold.push(el.textContent.slice(0, 30)); }
+  }
+  const body = article.cloneNode(true);
+  body.querySelectorAll("pre, code, script, style, mjx-container, .highlight, textarea, .math")
+      .forEach((e) => e.remove());
+  const text = body.innerText || body.textContent || "";
+  const re = /(?<![\w.])[+\-]?\d+(?:\.\d+)?[eE][+\-]\d+(?![\w.])/g;
+  let m;
+  while ((m = re.exec(text)) && out.enote.length < 5) {
+    out.enote.push(text.slice(Math.max(0, m.index - 30), m.index + 20).replace(/\s+/g, " "));
+  }
+  for (const img of article.querySelectorAll("img")) {
+    const fig = img.closest("figure");
+    if (!fig || !fig.querySelector("figcaption")) { out.uncaptioned.push(img.getAttribute("src")); continue; }
+    const num = fig.querySelector("figcaption .caption-number");
+    out.unnumbered.push(num ? num.textContent.trim() : "");
+  }
+  const pre = article.querySelector("div.highlight pre");
+  if (pre) {
+    const span = document.createElement("span");
+    span.textContent = "0".repeat(100);
+    pre.appendChild(span);
+    const cs = getComputedStyle(pre);
+    const inner = pre.clientWidth - parseFloat(cs.paddingLeft) - parseFloat(cs.paddingRight);
+    out.code_columns = Math.floor(inner / (span.getBoundingClientRect().width / 100));
+    span.remove();
+  }
+  return out;
 })()
 """
 
@@ -370,6 +448,45 @@ def check_page(dt: DevTools, session: str, base: str, root: Path, page: Path,
             problems.append(f"raw TeX left in the page: ...{snippet}...")
         for src in report["images"]:
             problems.append(f"image did not load: {src}")
+
+    # Layout, captions and numbers, at the desktop width and at the phone's.
+    chapter = re.match(r"(\d\d)-", rel)
+    for label, (w, h), mobile in (("1280 px", VIEWPORT, False), (f"{PHONE[0]} px", PHONE, True)):
+        if mobile:
+            dt.call("Emulation.setDeviceMetricsOverride",
+                    {"width": w, "height": h, "deviceScaleFactor": 1, "mobile": True}, session)
+            dt.call("Page.reload", {}, session)
+            dt.wait_event("Page.loadEventFired", session, PAGE_TIMEOUT)
+            dt.call("Runtime.evaluate", {"expression": PAGE_PROBE, "awaitPromise": True,
+                                         "returnByValue": True}, session)
+        got = dt.call("Runtime.evaluate", {"expression": LAYOUT_PROBE, "returnByValue": True}, session)
+        layout = got.get("result", {}).get("value") or {}
+        if "exceptionDetails" in got:
+            problems.append(f"layout probe failed at {label}: {got['exceptionDetails'].get('text')}")
+            continue
+        for o in layout["overflow"][:5]:
+            problems.append(f"overflows its column at {label}: {o}")
+        if layout["pagewide"] > 1:
+            problems.append(f"the page scrolls sideways by {layout['pagewide']} px at {label}")
+        if mobile:
+            dt.call("Emulation.setDeviceMetricsOverride",
+                    {"width": VIEWPORT[0], "height": VIEWPORT[1], "deviceScaleFactor": 1, "mobile": False},
+                    session)
+            continue
+        for b in layout["bold"][:3]:
+            problems.append(f"a glued number is bold: {b!r}")
+        for e in layout["enote"]:
+            problems.append(f"a number in e-notation: ...{e}...")
+        for src in layout["uncaptioned"]:
+            problems.append(f"an image without a captioned figure: {src}")
+        if chapter:
+            for num in layout["unnumbered"]:
+                if not re.match(r"Figure \d+\.\d+", num):
+                    problems.append(f"a figure not numbered by chapter: {num!r}")
+        if layout["code_columns"] is not None and layout["code_columns"] < CODE_COLUMNS:
+            problems.append(f"a code block holds {layout['code_columns']} characters at {label}, "
+                            f"fewer than the {CODE_COLUMNS} that included code may use")
+        report["code_columns"] = layout["code_columns"]
 
     # Screenshots: the viewport of every page; the whole of the camera chapter.
     shot = dt.call("Page.captureScreenshot", {"format": "png"}, session)

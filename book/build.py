@@ -3,7 +3,8 @@
 
 Usage::
 
-    python book/build.py [--execute {cache,force,off}] [--toc PATH] [--config PATH]
+    python book/build.py [--execute {cache,force,off}] [--builder {html,singlehtml}]
+                         [--toc PATH] [--config PATH]
 
 The build runs ``jupyter-book build book -W -n --keep-going --all``: every
 page is re-read on every build (so a warning is never hidden by Sphinx's
@@ -33,6 +34,8 @@ import yaml
 BOOK = Path(__file__).resolve().parent
 ROOT = BOOK.parent
 MODES = ("cache", "force", "off", "auto")
+#: Sphinx builders: the HTML book, or the whole book as one page (book/pdf.py prints it).
+BUILDERS = ("html", "singlehtml")
 
 
 def jupyter_book() -> list[str]:
@@ -55,6 +58,31 @@ def config_for(mode: str, config: Path, workdir: Path) -> Path:
     return out
 
 
+#: The chapters' kernels load this profile. ipykernel warns on every start that its
+#: loopback TCP sockets are not encrypted; the kernels of a book build talk to no
+#: one else, so that one message is dropped and every other kernel message stays.
+KERNEL_CONFIG = """\
+import logging
+
+
+class _LoopbackTcpIsFine(logging.Filter):
+    def filter(self, record):
+        return "running over TCP without encryption" not in record.getMessage()
+
+
+logging.getLogger("IPKernelApp").addFilter(_LoopbackTcpIsFine())
+"""
+
+
+def quiet_kernel_profile(workdir: Path) -> Path:
+    """An IPython directory whose default profile holds :data:`KERNEL_CONFIG`."""
+    root = workdir / "ipython"
+    profile = root / "profile_default"
+    profile.mkdir(parents=True)
+    (profile / "ipython_kernel_config.py").write_text(KERNEL_CONFIG, encoding="utf-8")
+    return root
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--execute", choices=MODES, default="cache",
@@ -63,6 +91,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="table of contents (default: book/_toc.yml)")
     parser.add_argument("--config", type=Path, default=BOOK / "_config.yml",
                         help="book configuration (default: book/_config.yml)")
+    parser.add_argument("--builder", choices=BUILDERS, default="html",
+                        help="html (default) or singlehtml, the whole book as one page")
     args = parser.parse_args(argv)
 
     start = time.perf_counter()
@@ -76,15 +106,16 @@ def main(argv: list[str] | None = None) -> int:
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     with tempfile.TemporaryDirectory(prefix="sunset-book-") as tmp:
         config = config_for(args.execute, args.config.resolve(), Path(tmp))
+        env["IPYTHONDIR"] = str(quiet_kernel_profile(Path(tmp)))
         cmd = jupyter_book() + [
-            "build", str(BOOK), "--builder", "html", "--all",
+            "build", str(BOOK), "--builder", args.builder, "--all",
             "-W", "-n", "--keep-going",
             "--config", str(config), "--toc", str(args.toc.resolve()),
         ]
         print("build.py:", " ".join(cmd), flush=True)
         rc = subprocess.run(cmd, cwd=ROOT, env=env).returncode
     elapsed = time.perf_counter() - start
-    index = BOOK / "_build" / "html" / "index.html"
+    index = BOOK / "_build" / args.builder / "index.html"
     if rc == 0 and not index.is_file():
         print(f"build.py: jupyter-book exited 0 but {index} is missing", file=sys.stderr)
         rc = 1

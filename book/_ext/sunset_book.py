@@ -1,0 +1,66 @@
+"""Sphinx helpers for the sunset book: numbers in ×10ⁿ notation, a quiet log.
+
+Chapters glue numbers with format specs such as ``{glue:text}`err:.1e```,
+which Python writes as ``6.7e-06``. A reader expects ``6.7 × 10⁻⁶``.
+``numbers_sci.scientific`` rewrites one number, and the ``doctree-resolved`` handler
+rewrites every such number in the prose of a page (never in code, math or raw
+output), so a chapter keeps its ordinary format specs.
+
+myst-parser and myst-nb print their whole configuration objects when a build
+starts; a filter on Sphinx's log handlers drops those two lines (and nothing
+else), so that what the build log says is news.
+
+Registered in ``_config.yml`` under ``sphinx: local_extensions``.
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+
+from docutils import nodes
+
+from numbers_sci import scientific
+
+#: Nodes whose text is code, mathematics or raw output: left as they are.
+_SKIP = (nodes.literal, nodes.literal_block, nodes.math, nodes.math_block, nodes.raw,
+         nodes.FixedTextElement)
+
+
+def _skipped(node: nodes.Node) -> bool:
+    parent = node.parent
+    while parent is not None:
+        if isinstance(parent, _SKIP):
+            return True
+        parent = parent.parent
+    return False
+
+
+def rewrite_numbers(app, doctree: nodes.document, docname: str) -> None:
+    """Rewrite e-notation numbers in the prose of a resolved page."""
+    for text in list(doctree.findall(nodes.Text)):
+        old = str(text)
+        if "e" not in old and "E" not in old:
+            continue
+        new = scientific(old)
+        if new != old and not _skipped(text):
+            text.parent.replace(text, nodes.Text(new))
+
+
+#: The configuration dumps: "myst v3.0.1: MdParserConfig(...)", "myst-nb v1.4.0: NbParserConfig(...)".
+CONFIG_DUMP = re.compile(r"\b(MdParserConfig|NbParserConfig)\(")
+
+
+class NoConfigDump(logging.Filter):
+    """Drop the parsers' configuration dumps from Sphinx's log."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not CONFIG_DUMP.search(str(record.msg))
+
+
+def setup(app):
+    app.connect("doctree-resolved", rewrite_numbers)
+    for handler in logging.getLogger("sphinx").handlers:
+        if not any(isinstance(f, NoConfigDump) for f in handler.filters):
+            handler.addFilter(NoConfigDump())
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
