@@ -83,7 +83,7 @@ VIEWPORT = (1280, 1000)
 #: The phone's viewport (CSS pixels) for the second layout check.
 PHONE = (390, 844)
 #: Characters a code block must hold at 1280 px (tests/test_book.py's MAX_CODE_WIDTH).
-CODE_COLUMNS = 88
+CODE_COLUMNS = 84
 MAX_SHOT_HEIGHT = 12000
 
 CHROMIUM_FLAGS = [

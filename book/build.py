@@ -53,6 +53,11 @@ def config_for(mode: str, config: Path, workdir: Path) -> Path:
     """A copy of ``config`` whose execution mode is ``mode``."""
     data = yaml.safe_load(config.read_text(encoding="utf-8"))
     data.setdefault("execute", {})["execute_notebooks"] = mode
+    # jupyter-book resolves local extensions' folders against the config file's
+    # folder: the copy lives elsewhere, so they are made absolute here.
+    local = data.get("sphinx", {}).get("local_extensions") or {}
+    for name, folder in local.items():
+        local[name] = str((config.parent / folder).resolve())
     out = workdir / "_config.yml"
     out.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
     return out

@@ -29,7 +29,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 BOOK = ROOT / "book"
 MAX_FRAGMENT_LINES = 60
-MAX_CODE_WIDTH = 88
+MAX_CODE_WIDTH = 84
 
 _spec = importlib.util.spec_from_file_location("numbers_sci", BOOK / "_ext" / "numbers_sci.py")
 numbers_sci = importlib.util.module_from_spec(_spec)

@@ -108,7 +108,7 @@ class Camera:
         return out
 
     def directions(self) -> np.ndarray:
-        """Unit ray directions through every pixel centre, shape (height, width, 3)."""
+        """Unit rays through the pixel centres, shape (height, width, 3)."""
         s = self.s_centres()[None, :]
         z = self.zy_centres()[:, None]
         s, z = np.broadcast_arrays(s, z)

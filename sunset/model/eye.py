@@ -103,7 +103,8 @@ def eye_response(x) -> np.ndarray:
     (x/σ)ⁿ, so a ratio of 300 in luminance becomes a ratio of at most
     300ⁿ ≈ 31.
     """
-    a = np.power(np.clip(np.asarray(x, dtype=float), 0.0, None), EYE_RESPONSE_EXPONENT)
+    x = np.clip(np.asarray(x, dtype=float), 0.0, None)
+    a = np.power(x, EYE_RESPONSE_EXPONENT)
     return a / (a + EYE_SEMI_SATURATION ** EYE_RESPONSE_EXPONENT)
 
 

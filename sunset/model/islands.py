@@ -122,7 +122,7 @@ class Paraboloid:
             scan line misses the ellipse (or the level is above the apex).
         """
         s = np.asarray(s, dtype=float)
-        a = self.e * s * s + self.f * s + self.g          # > 0: positive-definite form
+        a = self.e * s * s + self.f * s + self.g  # > 0: positive-definite form
         b = 2.0 * self.e * s * X + self.f * (X + s * Y) + 2.0 * self.g * Y
         c = self.e * X * X + self.f * X * Y + self.g * Y * Y - (self.height - level)
         disc = b * b - 4.0 * a * c

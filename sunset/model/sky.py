@@ -217,7 +217,8 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
     else:
         col = view + columns(h, mu_s)
     trans = np.exp(-(col @ sp.tau))                      # (K, n, λ)
-    rayleigh = (dens[..., 0] * _phase_rayleigh(cos_g)[:, None])[..., None] * sp.tau[0]
+    rayleigh = ((dens[..., 0] * _phase_rayleigh(cos_g)[:, None])[..., None]
+                * sp.tau[0])
     aerosol = (dens[..., 1] * AEROSOL_ALBEDO * _phase_hg(cos_g)[:, None])[..., None]
     scat = rayleigh + aerosol * sp.tau[1]
     return sp.sun * np.sum(scat * trans, axis=1)

@@ -176,7 +176,7 @@ def _fit(x, y, first: int, stride: int, terms: int) -> np.ndarray:
 
 def expansion_fit(max_height: float = 0.2, samples: int = 16, terms: int = 7,
                   n_modes: int = 48) -> ExpansionFit:
-    """Fit the expansion's low-order coefficients to exact Stokes waves of small height.
+    """Fit the expansion's low-order coefficients to small exact Stokes waves.
 
     Solves ``samples`` exact waves with k·H evenly spaced up to ``max_height``
     and fits each quantity by least squares with ``terms`` powers (the
@@ -226,6 +226,7 @@ def expansion_fit(max_height: float = 0.2, samples: int = 16, terms: int = 7,
         a4=_fit(al, a[:, 3], 4, 2, terms), a5=_fit(al, a[:, 4], 5, 2, terms),
         speed=_fit(al, c, 0, 2, terms), speed_squared=_fit(al, c * c, 0, 2, terms),
         crest_curvature=curvature,
-        eps_a1=_fit(eps, a[:, 0], 1, 2, terms), eps_a2=_fit(eps, a[:, 1], 2, 2, terms),
+        eps_a1=_fit(eps, a[:, 0], 1, 2, terms),
+        eps_a2=_fit(eps, a[:, 1], 2, 2, terms),
         eps_speed=_fit(eps, c, 0, 2, terms),
     )

@@ -160,8 +160,9 @@ def _continuation(height: float, ops: _Operators):
             step /= 2.0
             if step < 1e-5:
                 raise SunsetError(
-                    f"steepness {height / (2 * np.pi):.6g}: the exact Stokes solver "
-                    f"did not converge beyond H/λ = {reached / (2 * np.pi):.6g} "
+                    f"steepness {height / (2 * np.pi):.6g}: the exact Stokes "
+                    "solver did not converge beyond "
+                    f"H/λ = {reached / (2 * np.pi):.6g} "
                     "(too close to the highest wave, "
                     f"H/λ = {STOKES_MAX_STEEPNESS})")
             continue

@@ -247,10 +247,16 @@ class Sea:
         require_positive("wavelength", wavelength)
         n_trains = len(amplitudes)
         phases = [0.0] * n_trains if phases is None else list(phases)
-        stokes_orders = [1] * n_trains if stokes_orders is None else list(stokes_orders)
-        harmonics = list(range(1, n_trains + 1)) if harmonics is None else list(harmonics)
-        if not (len(directions) == len(phases) == len(stokes_orders) == len(harmonics) == n_trains):
-            raise SunsetError("amplitudes, directions, phases, stokes_orders and harmonics must have one entry per train")
+        if stokes_orders is None:
+            stokes_orders = [1] * n_trains
+        stokes_orders = list(stokes_orders)
+        if harmonics is None:
+            harmonics = list(range(1, n_trains + 1))
+        harmonics = list(harmonics)
+        lengths = (len(directions), len(phases), len(stokes_orders), len(harmonics))
+        if any(n != n_trains for n in lengths):
+            raise SunsetError("amplitudes, directions, phases, stokes_orders and "
+                              "harmonics must have one entry per train")
         for i, n in enumerate(harmonics):
             require_int_range(f"harmonics[{i}]", n, 1)
         return cls(tuple(

@@ -54,7 +54,8 @@ def _dirs(s, z) -> np.ndarray:
     return d / np.linalg.norm(d, axis=-1, keepdims=True)
 
 
-def sun_coverage(camera, sun: Sun, hours: float, supersample: int = SUN_SUPERSAMPLE):
+def sun_coverage(camera, sun: Sun, hours: float,
+                 supersample: int = SUN_SUPERSAMPLE):
     """Fraction of each pixel covered by the sun's disk above the horizon.
 
     Only pixels near the sun are examined. A pixel whose four corners lie
@@ -81,7 +82,8 @@ def sun_coverage(camera, sun: Sun, hours: float, supersample: int = SUN_SUPERSAM
     c0 = max(0, int(math.floor((s_c - reach - camera.s_min) / ds)))
     c1 = min(camera.width, int(math.ceil((s_c + reach - camera.s_min) / ds)) + 1)
     r0 = max(0, int(math.floor((camera.zy_max - (z_c + reach)) / dz)))
-    r1 = min(camera.height, int(math.ceil((camera.zy_max - (z_c - reach)) / dz)) + 1)
+    r1 = int(math.ceil((camera.zy_max - (z_c - reach)) / dz)) + 1
+    r1 = min(camera.height, r1)
     if c0 >= c1 or r0 >= r1 or z_c + reach <= 0.0:
         return empty
     s = camera.s_centres()[c0:c1][None, :]
@@ -95,7 +97,8 @@ def sun_coverage(camera, sun: Sun, hours: float, supersample: int = SUN_SUPERSAM
         for fz in (-0.5, 0.5):
             corner = _dirs(s + fs * ds, z + fz * dz)
             corners_in &= corner @ p > cos_d
-            corner_angle = np.arccos(np.clip(np.sum(corner * centre, -1), -1.0, 1.0))
+            cos_corner = np.clip(np.sum(corner * centre, -1), -1.0, 1.0)
+            corner_angle = np.arccos(cos_corner)
             half_diag = np.maximum(half_diag, corner_angle)
     above = (z - 0.5 * dz) >= 0.0
     below = (z + 0.5 * dz) <= 0.0
@@ -115,7 +118,7 @@ def sun_coverage(camera, sun: Sun, hours: float, supersample: int = SUN_SUPERSAM
 
 # --------------------------------------------------------------------------- exposing
 def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
-    """Expose one frame of codes: three passes through the tables, then the sun's disk.
+    """Expose a frame of codes: three passes through the tables, then the sun.
 
     Parameters
     ----------
@@ -150,7 +153,8 @@ def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
     run_strips(lambda r0, r1: np.take(lut, codes[r0:r1], axis=0, out=rgb[r0:r1]), row_strips(*codes.shape))
     rows, cols, cov = sun_coverage(cam, scene.sun, hours)
     if cov.size:
-        weight = np.where(code_map(scene).reaches_sky(codes[rows, cols]), cov, 0.0)[..., None]
+        to_sky = code_map(scene).reaches_sky(codes[rows, cols])
+        weight = np.where(to_sky, cov, 0.0)[..., None]
         if np.any(weight > 0):
             sun_lin = sun_colour(scene.sun, hours, clouds)
             box = DECODE_LUT[rgb[rows, cols]]

@@ -256,7 +256,7 @@ def sun_plane_angle(rh) -> np.ndarray:
 
 
 def island_offsets(rh, size: int, u) -> np.ndarray:
-    """Offsets in an island range: ⌊B (ρ̂ + 1) + u⌋ mod 4B, B = size/4 (int array)."""
+    """Offsets in an island range: ⌊B (ρ̂ + 1) + u⌋ mod 4B, B = size/4 (ints)."""
     y = np.asarray(rh, dtype=float) + 1.0
     return np.mod(np.floor(y * (size / 4.0) + u).astype(np.int64), size)
 

@@ -35,7 +35,8 @@ def _scan_row(u, us, g, gs, n, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf
             i += 1
             continue
         prof = gi
-        # the pixel units of scan_convert: ⌈(M_i − ζ0)/Δζ⌉ in g's dtype, clipped to 0..K
+        # the pixel units of scan_convert: ⌈(M_i − ζ0)/Δζ⌉ in g's dtype, clipped
+        # to 0..K
         r = np.ceil((prof - zeta0_t) * inv_dzeta_t)
         if r < zero_t:
             r = zero_t

@@ -85,7 +85,7 @@ def _vectors(name: str, v) -> np.ndarray:
 
 
 def reflect(d, n) -> np.ndarray:
-    """Reflect directions ``d`` about unit normals ``n``: R = D − 2(D·N)N (Blinn 1977).
+    """Reflect directions ``d`` about unit normals ``n``: R = D − 2(D·N)N (Blinn).
 
     Parameters
     ----------
@@ -106,7 +106,7 @@ def reflect(d, n) -> np.ndarray:
 
 # --------------------------------------------------------------------------- the quadratic
 def paraboloid_coefficients(q, r, top, e, f, g, x0, y0):
-    """Coefficients a, b, c of eq. 6 for the ray S(t) = Q + tR and a paraboloid (eq. 3).
+    """Coefficients a, b, c of eq. 6 for the ray S(t) = Q + tR and a paraboloid.
 
     The paraboloid is P(x, y) = top − e(x−x0)² − f(x−x0)(y−y0) − g(y−y0)² in
     the eye's coordinates (``top`` is a z coordinate, so an island's height
@@ -211,7 +211,8 @@ def island_intervals(island: Island, eye_height: float, q, r) -> dict:
     + 2gv₀R_y and C = eu₀² + fu₀v₀ + gv₀²,
 
         cliff: a = −A,      b = −B − R_z,      c = top − h − C − Q_z
-        hill:  a = −k A,    b = −k B − R_z,    c = top_c − h + k(top − top_c − C) − Q_z
+        hill:  a = −k A,    b = −k B − R_z,
+               c = top_c − h + k(top − top_c − C) − Q_z
 
     (k = hill_factor, top_c = cliff_top). The solid {z <= P_cliff} ∩ {z <= H}
     is the intersection of two convex sets: a ray is inside it on the overlap

@@ -23,8 +23,9 @@ from .pierce import gather, island_normal, pierce_islands, reflect, scatter
 __all__ = ["trace_reflections", "trace_sea_rays", "record_bounces"]
 
 
-def trace_reflections(scene, frame: Frame, reflections: int, sea_bounces: bool = True) -> Frame:
-    """Trace the reflected rays of every sea pixel and fill the frame's final fields.
+def trace_reflections(scene, frame: Frame, reflections: int,
+                      sea_bounces: bool = True) -> Frame:
+    """Trace the reflected rays of the sea pixels and fill the frame's final fields.
 
     Parameters
     ----------
