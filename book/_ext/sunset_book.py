@@ -55,7 +55,11 @@ class NoConfigDump(logging.Filter):
     """Drop the parsers' configuration dumps from Sphinx's log."""
 
     def filter(self, record: logging.LogRecord) -> bool:
-        return not CONFIG_DUMP.search(str(record.msg))
+        try:
+            text = record.getMessage()
+        except (TypeError, ValueError):
+            text = str(record.msg)
+        return not CONFIG_DUMP.search(text)
 
 
 def setup(app):
