@@ -62,8 +62,20 @@ class NoConfigDump(logging.Filter):
         return not CONFIG_DUMP.search(text)
 
 
+def unnumber_front_matter(app, env) -> None:
+    """Figures of pages outside the numbered chapters (the intro's picture) get no number.
+
+    Chapter figures are "Figure 4.2"; a picture on the intro page would
+    otherwise be "Figure 1", the number of one of the paper's own figures.
+    """
+    for docname in list(env.toc_fignumbers):
+        if not env.toc_secnumbers.get(docname):
+            env.toc_fignumbers[docname].pop("figure", None)
+
+
 def setup(app):
     app.connect("doctree-resolved", rewrite_numbers)
+    app.connect("env-updated", unnumber_front_matter)
     for handler in logging.getLogger("sphinx").handlers:
         if not any(isinstance(f, NoConfigDump) for f in handler.filters):
             handler.addFilter(NoConfigDump())
