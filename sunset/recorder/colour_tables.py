@@ -178,7 +178,8 @@ def tables(sun: Sun, hours: float, clouds: Clouds | None = None) -> np.ndarray:
     hours : float
         Hours before sunset (θ = 15°/h); negative after sunset.
     clouds : Clouds, optional
-        The scene's cloud layer: the tables then follow :data:`~sunset.tape.codes.CLOUDY_CODE_MAP`.
+        The scene's cloud layer: the tables then follow
+        :data:`~sunset.tape.codes.CLOUDY_CODE_MAP`.
 
     Returns
     -------

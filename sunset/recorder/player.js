@@ -108,7 +108,7 @@
           if (k === 0) continue;
           const i = (s.r0 + r) * W + s.c0 + q;
           const code = c[i];
-          if (code < skyStart) continue;         // the disk is drawn only where the ray reaches the sky
+          if (code < skyStart) continue;  // the disk only where rays reach the sky
           const w = k / n2;
           for (let ch = 0; ch < 3; ch++) {
             const entry = decodeLut[tables[t + ch * 256 + code]];

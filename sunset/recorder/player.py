@@ -377,8 +377,11 @@ def data_tables(data: dict) -> np.ndarray:
     return raw.reshape(len(data["hours"]), 3, 256)
 
 
-def compose(data: dict, frame: int, hour: int, codes: np.ndarray | None = None) -> np.ndarray:
-    """What ``player.js`` draws for a frame and a grid hour (an index), in NumPy: (H, W, 3) uint8.
+def compose(data: dict, frame: int, hour: int,
+            codes: np.ndarray | None = None) -> np.ndarray:
+    """What ``player.js`` draws for a frame and a grid hour (an index), in NumPy.
+
+    Returns (H, W, 3) uint8.
 
     Table lookup in each pass, then the sun's disk from the exported
     coverage, mixed in linear light and rounded through the exported
@@ -390,14 +393,16 @@ def compose(data: dict, frame: int, hour: int, codes: np.ndarray | None = None) 
     rgb = np.stack([tab[k][codes] for k in range(3)], axis=-1)
     s = data["sun"][hour]
     if s is not None:
-        rows, cols = slice(s["r0"], s["r0"] + s["h"]), slice(s["c0"], s["c0"] + s["w"])
+        rows = slice(s["r0"], s["r0"] + s["h"])
+        cols = slice(s["c0"], s["c0"] + s["w"])
         k = np.asarray(s["cover"], dtype=np.int64).reshape(s["h"], s["w"])
         n2 = data["supersample"] ** 2
         use = (k > 0) & (codes[rows, cols] >= data["sky_start"])
         w = (k / n2)[..., None]
         box = np.asarray(data["decode"])[rgb[rows, cols]]
         mixed = (1.0 - w) * box + w * np.asarray(s["colour"])
-        byte = np.searchsorted(np.asarray(data["encode"]), mixed, side="right").astype(np.uint8)
+        byte = np.searchsorted(np.asarray(data["encode"]), mixed, side="right")
+        byte = byte.astype(np.uint8)
         rgb[rows, cols] = np.where(use[..., None], byte, rgb[rows, cols])
     return rgb
 
