@@ -19,7 +19,8 @@ binary (the one ``make book-check`` uses):
 
 The PDF goes to ``book/_build/pdf/sunset-book.pdf`` unless ``--out`` says
 otherwise. The script checks what it wrote (a PDF with at least one page per
-chapter, every chapter's title in the printed page) and exits 1 if the build
+chapter, every chapter's title in the printed page, every image loaded and
+every formula typeset) and exits 1 if the build
 or a check fails, 2 if the browser cannot be run.
 """
 
@@ -60,6 +61,11 @@ PREPARE = r"""
     el.querySelectorAll(".toggle-hidden").forEach((c) => c.classList.remove("toggle-hidden"));
   });
   document.querySelectorAll("details.solution, .solution details").forEach((d) => { d.open = true; });
+  // In the one-page book every chapter is a section of the root page: start each on a new page.
+  const style = document.createElement("style");
+  style.textContent = "@media print { article.bd-article > section > section:has(> h2 > .section-number), "
+      + "section#symbols, section#bibliography { break-before: page; } }";
+  document.head.appendChild(style);
   await sleep(200);
   const maths = document.querySelectorAll(".math").length;
   const typeset = Array.from(document.querySelectorAll(".math"))
@@ -69,7 +75,8 @@ PREPARE = r"""
     broken: imgs.filter((i) => !(i.complete && i.naturalWidth > 0)).map((i) => i.getAttribute("src")),
     math: maths, typeset: typeset,
     merror: document.querySelectorAll("mjx-merror").length,
-    titles: Array.from(document.querySelectorAll("section > h1")).map((h) => h.textContent.trim()),
+    titles: Array.from(document.querySelectorAll("article h1, article h2"))
+        .map((h) => h.textContent.replace(/#$/, "").trim()),
     text: document.body.innerText.length,
   };
 })()
@@ -95,16 +102,16 @@ PRINT_OPTIONS = {
 }
 
 
-def read_stream(dt: DevTools, handle: str) -> bytes:
-    """The whole of a DevTools IO stream."""
+def read_stream(dt: DevTools, handle: str, session: str) -> bytes:
+    """The whole of a DevTools IO stream of the page's session."""
     out = bytearray()
     while True:
-        chunk = dt.call("IO.read", {"handle": handle, "size": 1 << 20}, timeout=PAGE_TIMEOUT)
+        chunk = dt.call("IO.read", {"handle": handle, "size": 1 << 20}, session, timeout=PAGE_TIMEOUT)
         data = chunk.get("data", "")
         out += base64.b64decode(data) if chunk.get("base64Encoded") else data.encode("latin-1")
         if chunk.get("eof"):
             break
-    dt.call("IO.close", {"handle": handle})
+    dt.call("IO.close", {"handle": handle}, session)
     return bytes(out)
 
 
@@ -114,7 +121,7 @@ def page_count(pdf: bytes) -> int:
 
 
 def print_page(html: Path, out: Path) -> tuple[int, dict]:
-    """Print ``html/index.html`` to ``out``; return (pages, what the page reported)."""
+    """Print the one-page book in ``html`` to ``out``; return (pages, what the page reported)."""
     exe = find_chromium()
     if exe is None:
         raise BrowserError("chromium not found; install it with `apt-get install -y chromium` "
@@ -130,7 +137,7 @@ def print_page(html: Path, out: Path) -> tuple[int, dict]:
             dt.call("Runtime.enable", {}, session)
             dt.call("Emulation.setEmulatedMedia", {"media": "print"}, session)
             dt.events()
-            dt.call("Page.navigate", {"url": base + "index.html"}, session)
+            dt.call("Page.navigate", {"url": base + f"{root_document()}.html"}, session)
             dt.wait_event("Page.loadEventFired", session, 4 * PAGE_TIMEOUT)
             result = dt.call("Runtime.evaluate", {"expression": PREPARE, "awaitPromise": True,
                                                   "returnByValue": True}, session,
@@ -139,7 +146,7 @@ def print_page(html: Path, out: Path) -> tuple[int, dict]:
                 raise BrowserError(f"page script failed: {result['exceptionDetails'].get('text')}")
             report = result["result"]["value"]
             printed = dt.call("Page.printToPDF", PRINT_OPTIONS, session, timeout=8 * PAGE_TIMEOUT)
-            pdf = read_stream(dt, printed["stream"])
+            pdf = read_stream(dt, printed["stream"], session)
         finally:
             dt.close()
             server.shutdown()
@@ -148,9 +155,22 @@ def print_page(html: Path, out: Path) -> tuple[int, dict]:
     return page_count(pdf), report
 
 
+def root_document() -> str:
+    """The book's root page (the one-page build writes the whole book into it)."""
+    found = re.search(r"^root:\s*(\S+)", (BOOK / "_toc.yml").read_text(encoding="utf-8"), re.M)
+    return found.group(1) if found else "index"
+
+
 def chapters() -> list[str]:
     """The files of the book's table of contents, in order."""
     return re.findall(r"^\s*-\s*file:\s*(\S+)", (BOOK / "_toc.yml").read_text(encoding="utf-8"), re.M)
+
+
+def title_of(name: str) -> str:
+    """The first level-one heading of a page's source."""
+    text = (BOOK / f"{name}.md").read_text(encoding="utf-8")
+    found = re.search(r"^# (.+)$", text, re.M)
+    return found.group(1).strip() if found else name
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -168,8 +188,8 @@ def main(argv: list[str] | None = None) -> int:
         if rc != 0:
             return rc
     html = BOOK / "_build" / "singlehtml"
-    if not (html / "index.html").is_file():
-        print(f"pdf.py: {html}/index.html not found: build it first", file=sys.stderr)
+    if not (html / f"{root_document()}.html").is_file():
+        print(f"pdf.py: {html}/{root_document()}.html not found: build it first", file=sys.stderr)
         return 1
     try:
         pages, report = print_page(html, args.out.resolve())
@@ -188,9 +208,10 @@ def main(argv: list[str] | None = None) -> int:
     if report["typeset"] < report["math"] or report["merror"]:
         problems.append(f"{report['math'] - report['typeset']} of {report['math']} formulas not typeset, "
                         f"{report['merror']} MathJax errors")
-    if len(report["titles"]) < n_docs:
-        problems.append(f"{len(report['titles'])} titles in the page for {n_docs} documents: "
-                        f"{report['titles']}")
+    printed = " | ".join(report["titles"]).replace("\u2019", "'")  # Sphinx's smart quotes
+    missing = [title_of(c) for c in [root_document(), *chapters()] if title_of(c) not in printed]
+    if missing:
+        problems.append(f"chapters missing from the printed page: {missing}")
     size = args.out.stat().st_size
     print(f"pdf.py: {args.out} ({pages} pages, {size / 1e6:.1f} MB, {report['images']} images, "
           f"{report['math']} formulas) in {time.perf_counter() - start:.1f} s", flush=True)

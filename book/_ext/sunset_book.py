@@ -62,20 +62,38 @@ class NoConfigDump(logging.Filter):
         return not CONFIG_DUMP.search(text)
 
 
-def unnumber_front_matter(app, env) -> None:
+def unnumber_front_matter(app, env) -> list[str]:
     """Figures of pages outside the numbered chapters (the intro's picture) get no number.
 
     Chapter figures are "Figure 4.2"; a picture on the intro page would
     otherwise be "Figure 1", the number of one of the paper's own figures.
     """
+    changed = []
     for docname in list(env.toc_fignumbers):
-        if not env.toc_secnumbers.get(docname):
-            env.toc_fignumbers[docname].pop("figure", None)
+        if not env.toc_secnumbers.get(docname) and "figure" in env.toc_fignumbers[docname]:
+            env.toc_fignumbers[docname].pop("figure")
+            changed.append(docname)
+    return changed
+
+
+def share_html_handlers(app) -> None:
+    """Let the one-page builder (``make pdf``) render every node the HTML builder can.
+
+    Sphinx looks node handlers up by builder name first; once any extension
+    registers one for "singlehtml", that builder no longer falls back to the
+    "html" handlers, and myst-nb's nodes (hidden code cells) have none there.
+    """
+    handlers = app.registry.translation_handlers
+    if app.builder.name in handlers:
+        for node, pair in handlers.get("html", {}).items():
+            handlers[app.builder.name].setdefault(node, pair)
 
 
 def setup(app):
     app.connect("doctree-resolved", rewrite_numbers)
-    app.connect("env-updated", unnumber_front_matter)
+    app.connect("builder-inited", share_html_handlers)
+    # after Sphinx's toctree collector has numbered the figures (priority 500)
+    app.connect("env-get-updated", unnumber_front_matter, priority=900)
     for handler in logging.getLogger("sphinx").handlers:
         if not any(isinstance(f, NoConfigDump) for f in handler.filters):
             handler.addFilter(NoConfigDump())
