@@ -289,3 +289,19 @@ def test_scientific_round_trips_through_float():
             mantissa, _, power = text.partition(" × 10")
             back = float(mantissa) * 10.0 ** int(power.translate(table))
             assert back == pytest.approx(float(format(value, spec)), rel=1e-12)
+
+
+def test_the_symbols_page_resolves_the_overloaded_letters():
+    """σ, f, g, H and c each have a row per meaning, with units and the chapter that defines it."""
+    assert "symbols" in [f for _, files in toc_parts() for f in files]
+    text = (BOOK / "symbols.md").read_text(encoding="utf-8")
+    section = text.split("## Letters with more than one meaning", 1)[1].split("\n## ", 1)[0]
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")]
+            for line in section.splitlines() if line.startswith("| $")]
+    assert rows and all(len(r) == 4 and all(r) for r in rows), "every row: symbol, meaning, units, chapter"
+    for letter in (r"\sigma", "f", "g", "H", "c"):
+        meanings = [r for r in rows if re.match(r"\$" + re.escape(letter) + r"(\$|_|\()", r[0])
+                    or re.search(r"(^|\$|, )" + re.escape(letter) + r"(\$|,)", r[0])]
+        assert len(meanings) >= 2, f"{letter}: {len(meanings)} meanings on the symbols page"
+    for name in re.findall(r"\{doc\}`([^`]+)`", text):
+        assert (BOOK / f"{name}.md").is_file(), f"symbols.md refers to a missing page {name}"
