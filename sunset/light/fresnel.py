@@ -35,7 +35,7 @@ __all__ = ["fresnel", "reflectance", "refract", "brewster_angle"]
 
 
 def fresnel(cos_i, n: float = WATER_REFRACTIVE_INDEX):
-    """R_s, R_p and the unpolarised R = (R_s + R_p)/2 for light from air into a medium of index n.
+    """R_s, R_p and R = (R_s + R_p)/2 (unpolarised), air into a medium of index n.
 
     Parameters
     ----------

@@ -106,9 +106,12 @@ def island_pixels(normals, part, g0, g1, fx, fy, sun_dir, direct, table) -> np.n
 
 
 @twin("sunset.light.kernel_numba")
-def combine(n_pixels, throughput, sky_index, sky, island_index, island, layer_starts, w_index, w_up, w_mu, w_weight,
-            w_sky, beam, mu_beam, water_sun, water_sky) -> np.ndarray:
-    """The frame's radiance (N, 3) float32: final radiances × throughput, plus the water at each bounce.
+def combine(n_pixels, throughput, sky_index, sky, island_index, island,
+            layer_starts, w_index, w_up, w_mu, w_weight, w_sky, beam, mu_beam,
+            water_sun, water_sky) -> np.ndarray:
+    """The frame's radiance (N, 3) float32.
+
+    Final radiances × throughput, plus the water at each bounce.
 
     The water entries are the layers of the geometry one after the other
     (``layer_starts`` their first entries); within a layer a pixel appears

@@ -63,12 +63,16 @@ def _unpack(keys) -> np.ndarray:
 
 
 def code_group_palette(display_linear: np.ndarray, codes: np.ndarray):
-    """The best table for the paper's codes: each code's mean linear colour; (palette (≥256, 3), image (H, W, 3)) linear."""
+    """The best table for the paper's codes: each code's mean linear colour.
+
+    Returns (palette (≥256, 3), image (H, W, 3)), both linear.
+    """
     lin = np.asarray(display_linear, dtype=float).reshape(-1, 3)
     c = np.asarray(codes).reshape(-1).astype(np.intp)
     size = max(256, int(c.max()) + 1)
     counts = np.bincount(c, minlength=size).astype(float)
-    palette = np.stack([np.bincount(c, weights=lin[:, j], minlength=size) for j in range(3)], axis=1)
+    sums = [np.bincount(c, weights=lin[:, j], minlength=size) for j in range(3)]
+    palette = np.stack(sums, axis=1)
     palette = palette / np.maximum(counts, 1.0)[:, None]
     return palette, palette[c].reshape(np.shape(display_linear))
 

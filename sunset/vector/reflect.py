@@ -109,7 +109,9 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
 
 
 def record_bounces(frame: Frame, flat, cos1, r1, idx=None, ray2=None) -> None:
-    """Write what each sea bounce did into ``frame.incidence`` and ``frame.sea_rays`` (for :mod:`sunset.light`).
+    """Record each sea bounce in ``frame.incidence`` and ``frame.sea_rays``.
+
+    For :mod:`sunset.light`.
 
     ``flat`` are the sea pixels' row-major indices, ``cos1`` = −D·N and ``r1``
     the first reflected rays there; ``idx`` (into ``flat``) and ``ray2`` the
