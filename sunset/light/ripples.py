@@ -209,8 +209,10 @@ def trace_ripples(scene, post_index: int = 0, t: float = 0.0, hours: float = 2.0
     lam = spectral_data().wavelengths
     c_water = absorption(lam) + scattering(lam)                        # beam attenuation, m⁻¹
     area = L * 2.0 * W
-    flux = math.sin(math.asin(min(1.0, p[2]))) * area / rays           # per ray, relative to E
-    # the jittered grid on the patch: along ∈ [0, L] towards the sun, lateral ∈ [−W, W]
+    # per ray, relative to E
+    flux = math.sin(math.asin(min(1.0, p[2]))) * area / rays
+    # the jittered grid on the patch: along ∈ [0, L] towards the sun,
+    # lateral ∈ [−W, W]
     m = int(math.ceil(math.sqrt(rays)))
     rng = np.random.default_rng(seed)
     k = np.arange(rays)
@@ -226,13 +228,15 @@ def trace_ripples(scene, post_index: int = 0, t: float = 0.0, hours: float = 2.0
     cos_i = np.clip(normal @ p, 0.0, 1.0)
     R = reflectance(cos_i)
     r = d[None, :] - 2.0 * (normal @ d)[:, None] * normal
-    # reflected rays; one that heads down (a low sun on a steep facet) meets the water again: not traced on
+    # reflected rays; one that heads down (a low sun on a steep facet) meets the
+    # water again: not traced on
     down = r[:, 2] <= 0.0
     t_r = np.where(down, np.inf, post.pierce(q, r))
     hit_r = np.isfinite(t_r)
     pr = q[hit_r] + t_r[hit_r, None] * r[hit_r]
     phi_r, z_r = post.surface_coordinates(pr)
-    above = _splat(phi_r, z_r, R[hit_r] * flux, phi_edges, z_edges, post.radius, h)[..., 0]
+    above = _splat(phi_r, z_r, R[hit_r] * flux, phi_edges, z_edges, post.radius,
+                   h)[..., 0]
     # refracted rays
     tr = refract(np.broadcast_to(d, normal.shape), normal, cos_i)
     t_t = post.pierce(q, tr)

@@ -163,7 +163,10 @@ class Clouds:
         return self.level - self.max_bottom
 
     def thickness(self, x, y) -> tuple[np.ndarray, np.ndarray]:
-        """(T, B): the heights above and below the mean level of the layer at (x, y), metres; 0 outside D."""
+        """(T, B): heights above and below the layer's mean level at (x, y), metres.
+
+        0 outside D.
+        """
         x = np.asarray(x, dtype=float)
         y = np.asarray(y, dtype=float)
         T = np.zeros(np.broadcast(x, y).shape)
@@ -182,7 +185,11 @@ class Clouds:
 
 
 def cloud_radiance(depth, sun_dir, clouds: Clouds, delta: float) -> np.ndarray:
-    """Spectral radiance leaving a cloud at ``depth`` below the mean level, per unit E₀, (..., n_λ).
+    """Spectral radiance leaving a cloud at ``depth`` below its mean level.
+
+    Shape (..., n_λ).
+
+    Per unit E₀.
 
     L = (ϖ/π) [E_sun(z) (exp(−max(d, 0)/ℓ) + κ) + E_sky], with ϖ the cloud's
     albedo (:data:`~sunset.constants.CLOUD_ALBEDO`), ℓ its attenuation length
@@ -212,11 +219,12 @@ def cloud_radiance(depth, sun_dir, clouds: Clouds, delta: float) -> np.ndarray:
     e = math.asin(max(-1.0, min(1.0, float(p[2]))))
     sp = spectral_data()
     col = slant_columns(z, math.sin(e))                                  # (..., 3)
-    trans = np.exp(-np.einsum("...k,kl->...l", col, sp.tau))             # (..., n_λ)
+    trans = np.exp(-np.einsum("...k,kl->...l", col, sp.tau))  # (..., n_λ)
     # the horizon dips below the horizontal by √(2z/R) seen from altitude z
     dip = np.sqrt(2.0 * z / EARTH_RADIUS)
     vis = visible_fraction(e + dip, delta)[..., None]
     direct = sp.sun * trans * vis
     _, sky = island_lighting(p, delta)
-    lit = np.exp(-np.maximum(d, 0.0) / CLOUD_ATTENUATION_LENGTH)[..., None] + CLOUD_MULTIPLE_SCATTERING
+    lit = np.exp(-np.maximum(d, 0.0) / CLOUD_ATTENUATION_LENGTH)[..., None]
+    lit = lit + CLOUD_MULTIPLE_SCATTERING
     return CLOUD_ALBEDO / math.pi * (direct * lit + sky)

@@ -56,12 +56,15 @@ class Post:
             raise SunsetError("puts the eye inside the post: its axis must be farther than its radius from the eye")
 
     def pierce(self, q, r) -> np.ndarray:
-        """Distance t along rays q + t r (eye-independent coordinates, z above mean sea level) to the
-        post's side, +inf where a ray misses it (or meets it only behind its origin or beyond top and depth).
+        """Distance t along rays q + t r to the post's side (+inf: a miss).
+
+        Eye-independent coordinates, z above mean sea level. A ray also misses
+        where it meets the side only behind its origin or beyond top and depth.
 
         The side (x − X)² + (y − Y)² = ρ² gives a t² + b t + c = 0 with
-        a = r_x² + r_y², b = 2(u r_x + v r_y), c = u² + v² − ρ², (u, v) = (q_x − X, q_y − Y);
-        the entry is the smaller root, kept when it is ahead (t > 0) and between −depth and top.
+        a = r_x² + r_y², b = 2(u r_x + v r_y), c = u² + v² − ρ²,
+        (u, v) = (q_x − X, q_y − Y); the entry is the smaller root, kept when it
+        is ahead (t > 0) and between −depth and top.
         """
         q = np.asarray(q, dtype=float)
         r = np.asarray(r, dtype=float)
@@ -76,7 +79,8 @@ class Post:
             t1, t2 = qq / a, c / qq
         t_in = np.fmin(t1, t2)
         z = q[..., 2] + t_in * r[..., 2]
-        ok = (disc > 0.0) & (a > 0.0) & (c > 0.0) & (t_in > 0.0) & (z <= self.top) & (z >= -self.depth)
+        ok = (disc > 0.0) & (a > 0.0) & (c > 0.0) & (t_in > 0.0)
+        ok &= (z <= self.top) & (z >= -self.depth)
         return np.where(ok, t_in, np.inf)
 
     def surface_coordinates(self, p) -> tuple[np.ndarray, np.ndarray]:

@@ -67,7 +67,7 @@ class Sun:
         """Unit vector to the sun at its highest, perpendicular to U."""
         a = math.radians(self.azimuth)
         t = math.radians(self.tilt)
-        side = np.array([-math.cos(a), math.sin(a), 0.0])  # horizontal, 90° left of U
+        side = np.array([-math.cos(a), math.sin(a), 0.0])  # horizontal, 90° from U
         return math.cos(t) * side + math.sin(t) * np.array([0.0, 0.0, 1.0])
 
     @property
@@ -82,7 +82,10 @@ class Sun:
         return np.asarray(hours, dtype=float) * RADIANS_PER_HOUR
 
     def position(self, hours) -> np.ndarray:
-        """P(θ) = U cos θ + V sin θ for ``hours`` before sunset, shape ``shape(hours) + (3,)``."""
+        """P(θ) = U cos θ + V sin θ for ``hours`` before sunset.
+
+        Shape ``shape(hours) + (3,)``.
+        """
         th = self.theta(hours)[..., None]
         return self.U * np.cos(th) + self.V * np.sin(th)
 

@@ -142,7 +142,9 @@ class WaveTrain:
 
 
 def unit_normal(fx, fy) -> np.ndarray:
-    """The unit upward normal of a height field z = f(x, y) from its gradient, shape (..., 3).
+    """The unit upward normal of a height field z = f(x, y) from its gradient.
+
+    Shape (..., 3).
 
     The paper's normal formula: z̄ = 1/√(f_x² + f_y² + 1), x̄ = −z̄ f_x,
     ȳ = −z̄ f_y; used for the sea, the islands and the wrinkle normals alike.

@@ -85,7 +85,8 @@ def cell_scan(cell, level_h: float, s, zeta0: float, dzeta: float, n_pixels: int
     ok &= u_near > u_far
     if not ok.any():
         return out
-    # the lattice between the chord's ends, near to far: u_near, j1·du, ..., j0·du, u_far
+    # the lattice between the chord's ends, near to far:
+    # u_near, j1·du, ..., j0·du, u_far
     j_hi = np.where(ok, np.ceil(u_near / du) - 1, 0).astype(np.int64)
     j_lo = np.where(ok, np.floor(u_far / du) + 1, 1).astype(np.int64)
     inner = np.maximum(j_hi - j_lo + 1, 0)
@@ -94,11 +95,13 @@ def cell_scan(cell, level_h: float, s, zeta0: float, dzeta: float, n_pixels: int
     start = np.cumsum(count) - count
     pos = np.arange(col.size) - start[col]
     last = pos == count[col] - 1
-    u = np.where(pos == 0, u_near[col], np.where(last, u_far[col], (j_hi[col] - (pos - 1)) * du))
+    inner_u = (j_hi[col] - (pos - 1)) * du
+    u = np.where(pos == 0, u_near[col], np.where(last, u_far[col], inner_u))
     y = 1.0 / u
-    T_, B_ = cell.top * cell.profile(s[col] * y, y), cell.bottom * cell.profile(s[col] * y, y)
-    rb = ((level_h - B_) * u - zeta0) / dzeta                     # the bottom's projection, in pixels
-    rt = ((level_h + T_) * u - zeta0) / dzeta                     # the top's
+    shape = cell.profile(s[col] * y, y)
+    T_, B_ = cell.top * shape, cell.bottom * shape
+    rb = ((level_h - B_) * u - zeta0) / dzeta  # the bottom's projection, pixels
+    rt = ((level_h + T_) * u - zeta0) / dzeta  # the top's
     k_lo = np.maximum(np.floor(rb) + 1, 0).astype(np.int64)
     k_hi = np.minimum(np.ceil(rt) - 1, K - 1).astype(np.int64)
     n = np.where((T_ + B_ > 0) & (pos > 0), np.maximum(k_hi - k_lo + 1, 0), 0)
@@ -110,10 +113,12 @@ def cell_scan(cell, level_h: float, s, zeta0: float, dzeta: float, n_pixels: int
     key = col[smp] * K + k
     _, first = np.unique(key, return_index=True)
     i, k = smp[first], k[first]
-    p = i - 1                                                      # the previous sample: same scan line
+    p = i - 1  # the previous sample: same scan line
     through_bottom = k <= rb[p]
     with np.errstate(divide="ignore", invalid="ignore"):
-        f = np.where(through_bottom, (rb[p] - k) / (rb[p] - rb[i]), (k - rt[p]) / (rt[i] - rt[p]))
+        f_bottom = (rb[p] - k) / (rb[p] - rb[i])
+        f_top = (k - rt[p]) / (rt[i] - rt[p])
+        f = np.where(through_bottom, f_bottom, f_top)
     f = np.clip(np.nan_to_num(f, nan=1.0), 0.0, 1.0)
     out.reshape(-1)[col[i] * K + k] = u[p] + f * (u[i] - u[p])
     return out

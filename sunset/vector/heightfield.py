@@ -264,7 +264,7 @@ def _sea_terms(sea, s, t):
 
 
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
-    """g(y_i) = (ζ-height of the sea at (s·y_i, y_i)) for scan lines s and samples u.
+    """g(y_i) = (ζ-height of the sea at (s·y_i, y_i)) for scan lines s, samples u.
 
     The phase of train j on the scan line x = s·y is b_j y + c_j with
     b_j = ℓ_j s + m_j and c_j = φ_j − ω_j t (the paper's form), so one
@@ -301,7 +301,8 @@ def sea_profile(sea, s, u, h: float, t: float = 0.0):
         np.multiply(b[:, None], y[None, :], out=phase)
         phase += c
         np.cos(phase, out=phase)
-        # Σ_n a_n cos nθ = Σ_j p_j cos^j θ (Chebyshev), by Horner's rule in place; p_0 is added once at the end
+        # Σ_n a_n cos nθ = Σ_j p_j cos^j θ (Chebyshev), by Horner's rule in place;
+        # p_0 is added once at the end
         p = _chebyshev_power(amps)
         const += p[0]
         if i == 0:
