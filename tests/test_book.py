@@ -305,3 +305,12 @@ def test_the_symbols_page_resolves_the_overloaded_letters():
         assert len(meanings) >= 2, f"{letter}: {len(meanings)} meanings on the symbols page"
     for name in re.findall(r"\{doc\}`([^`]+)`", text):
         assert (BOOK / f"{name}.md").is_file(), f"symbols.md refers to a missing page {name}"
+
+
+def test_the_browser_check_measures_the_width_these_tests_allow():
+    """book/browser_check.py fails a page whose code column holds fewer than MAX_CODE_WIDTH characters."""
+    source = (BOOK / "browser_check.py").read_text(encoding="utf-8")
+    m = re.search(r"^CODE_COLUMNS = (\d+)", source, re.M)
+    assert m and int(m.group(1)) == MAX_CODE_WIDTH
+    css = (BOOK / "_static" / "sunset.css").read_text(encoding="utf-8")
+    assert "div.highlight pre" in css and "overflow-x: auto" in css
