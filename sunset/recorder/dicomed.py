@@ -148,9 +148,11 @@ def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
     clouds = scene.clouds
     tab = tables(scene.sun, hours, clouds)
     rgb = np.empty(codes.shape + (3,), np.uint8)
-    # the three passes, one through each filter (PASSES), as one lookup of the code's (red, green, blue)
+    # the three passes, one through each filter (PASSES), as one lookup of the
+    # code's (red, green, blue)
     lut = np.ascontiguousarray(tab.T)             # (256, 3)
-    run_strips(lambda r0, r1: np.take(lut, codes[r0:r1], axis=0, out=rgb[r0:r1]), row_strips(*codes.shape))
+    run_strips(lambda r0, r1: np.take(lut, codes[r0:r1], axis=0, out=rgb[r0:r1]),
+               row_strips(*codes.shape))
     rows, cols, cov = sun_coverage(cam, scene.sun, hours)
     if cov.size:
         to_sky = code_map(scene).reaches_sky(codes[rows, cols])

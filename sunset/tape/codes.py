@@ -379,15 +379,18 @@ def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
         out = codes[r0:r1]
         encode_pixels(out, part, u, v, sun, cmap)
         post = np.asarray(part.final_surface) == POST
-        if np.any(post):            # posts in the water: wood, coded as the brown cliff by ρ̂(N)
-            out[post] = cmap.cliff.start + island_offsets(rho_hat(_rows(part.final_normal, post), sun),
-                                                          cmap.cliff.size, u[post])
-        if cmap.cloud is not None:  # clouds by depth below the mean level, seen directly or by reflection
+        if np.any(post):  # posts in the water: wood, coded as the cliff by ρ̂(N)
+            rh = rho_hat(_rows(part.final_normal, post), sun)
+            offsets = island_offsets(rh, cmap.cliff.size, u[post])
+            out[post] = cmap.cliff.start + offsets
+        # clouds by depth below the mean level, seen directly or by reflection
+        if cmap.cloud is not None:
             cloud = np.asarray(part.final_surface) == CLOUD
             if np.any(cloud):
                 clouds = scene.clouds
-                out[cloud] = cmap.cloud.start + cloud_index(part.cloud_depth[cloud], cmap.cloud.size,
-                                                            clouds.max_top, clouds.max_bottom, u[cloud])
+                index = cloud_index(part.cloud_depth[cloud], cmap.cloud.size,
+                                    clouds.max_top, clouds.max_bottom, u[cloud])
+                out[cloud] = cmap.cloud.start + index
 
     run_strips(rows, row_strips(H, W))
     return codes

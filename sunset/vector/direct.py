@@ -158,21 +158,26 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     tick = clock()
     if islands is None:
         islands = island_pass(scene, refine_islands)
-        best_u, best_surf = islands.u, islands.code      # ours alone: merge the sea into them
+        best_u, best_surf = islands.u, islands.code  # ours alone: merge the sea in
     else:
         if islands.key != island_key(scene, refine_islands):
-            raise SunsetError("islands: this island pass was computed for another camera, islands or sea height")
+            raise SunsetError("islands: this island pass was computed for another "
+                              "camera, islands or sea height")
         best_u, best_surf = islands.u.copy(), islands.code.copy()
     tock = clock()
     seconds["islands"] = tock - tick
     tick = tock
 
     def sea(c0: int, c1: int) -> int:
-        # the sea: its profile on the lattice, scan-converted, the far tail, merged (ties to the sea)
+        # the sea: its profile on the lattice, scan-converted, the far tail,
+        # merged (ties to the sea)
         g = sea_profile(scene.sea, s_all[c0:c1], u_sea_lattice, h, t)
-        return sea_scan(u_sea_lattice, g, zeta0, dz, H, best_u[c0:c1], best_surf[c0:c1])
+        return sea_scan(u_sea_lattice, g, zeta0, dz, H, best_u[c0:c1],
+                        best_surf[c0:c1])
 
-    tail = sum(run_strips(sea, strips(W, _chunk_columns(samp, W)))) if samp.n else 0
+    tail = 0
+    if samp.n:
+        tail = sum(run_strips(sea, strips(W, _chunk_columns(samp, W))))
     tock = clock()
     seconds["sea"] = tock - tick
     tick = tock

@@ -60,7 +60,8 @@ def trace_reflections(scene, frame: Frame, reflections: int,
         if np.any(part.surface == SEA):
             trace_sea_rays(scene, part, reflections)
 
-    # every ray is traced on its own, so strips of rows go to the threads (sunset.kernels.run_strips)
+    # every ray is traced on its own, so strips of rows go to the threads
+    # (sunset.kernels.run_strips)
     run_strips(rows, row_strips(*frame.shape))
     return frame
 
