@@ -5,7 +5,7 @@
   here with :mod:`ast`, independently of Sphinx), ``:start-after:`` and
   ``:end-before:`` markers occur once each and in that order. Raw ``:lines:``
   ranges are not allowed: they go stale silently when the code changes.
-* Every included fragment is short (at most ``MAX_FRAGMENT_LINES`` lines) and
+* Every included fragment of code is short (at most ``MAX_FRAGMENT_LINES`` lines) and
   every included line fits the column (at most ``MAX_CODE_WIDTH`` characters,
   the width of a code block in the book's column at 1280 px, measured by
   ``book/browser_check.py``).
@@ -111,6 +111,14 @@ def python_object_lines(source: str, dotted: str) -> tuple[int, int] | None:
     return first, node.end_lineno
 
 
+def _option_text(value: str) -> str:
+    """A directive option's text, with YAML-style quotes and escapes resolved."""
+    value = value.strip()
+    if len(value) >= 2 and value[0] == value[-1] and value[0] in "'\"":
+        return ast.literal_eval(value)
+    return value
+
+
 def included_lines(md: Path, arg: str, options: dict[str, str]) -> list[str]:
     """The lines a literalinclude shows, or raise AssertionError saying why it does not resolve."""
     path = (md.parent / arg).resolve()
@@ -123,16 +131,21 @@ def included_lines(md: Path, arg: str, options: dict[str, str]) -> list[str]:
         span = python_object_lines(source, options["pyobject"])
         assert span is not None, f"{md.name}: {arg} has no object {options['pyobject']!r}"
         lines = lines[span[0] - 1:span[1]]
-    if "start-after" in options:
-        marker = options["start-after"]
-        hits = [i for i, line in enumerate(lines) if marker in line]
-        assert len(hits) == 1, f"{md.name}: marker {marker!r} occurs {len(hits)} times in {arg}"
-        lines = lines[hits[0] + 1:]
-    if "end-before" in options:
-        marker = options["end-before"]
-        hits = [i for i, line in enumerate(lines) if marker in line]
-        assert len(hits) == 1, f"{md.name}: marker {marker!r} occurs {len(hits)} times after the start in {arg}"
-        lines = lines[:hits[0]]
+    # Start markers must be unambiguous (exactly one line holds them); an end
+    # marker ends the fragment at its first line after the start, as in Sphinx.
+    # Sphinx keeps the line endings, so a marker may end with a newline.
+    for key, keep in (("start-after", 1), ("start-at", 0)):
+        if key in options:
+            marker = _option_text(options[key])
+            hits = [i for i, line in enumerate(lines) if marker in line + "\n"]
+            assert len(hits) == 1, f"{md.name}: marker {marker!r} occurs {len(hits)} times in {arg}"
+            lines = lines[hits[0] + keep:]
+    for key, keep in (("end-before", 0), ("end-at", 1)):
+        if key in options:
+            marker = _option_text(options[key])
+            hits = [i for i, line in enumerate(lines) if marker in line + "\n"]
+            assert hits, f"{md.name}: end marker {marker!r} does not occur after the start in {arg}"
+            lines = lines[:hits[0] + keep]
     assert lines, f"{md.name}: literalinclude of {arg} {options} is empty"
     if "dedent" in options:
         n = int(options["dedent"]) if options["dedent"] else min(
@@ -153,7 +166,8 @@ def test_the_book_has_literalincludes():
                          ids=[f"{m.stem}:{o.get('pyobject') or o.get('start-after') or a}" for m, a, o in INCLUDES])
 def test_literalinclude_resolves_and_fits_the_column(md, arg, options):
     lines = included_lines(md, arg, options)
-    assert len(lines) <= MAX_FRAGMENT_LINES, (
+    code = arg.endswith(".py") or "pyobject" in options  # a data file may be shown whole
+    assert not code or len(lines) <= MAX_FRAGMENT_LINES, (
         f"{md.name}: {options} shows {len(lines)} lines (at most {MAX_FRAGMENT_LINES}: "
         "show the part the prose explains, between markers)")
     wide = [(len(x.rstrip()), x.strip()[:50]) for x in lines if len(x.rstrip()) > MAX_CODE_WIDTH]
@@ -169,6 +183,8 @@ def test_included_lines_finds_what_sphinx_would(tmp_path):
         "    @staticmethod", "    def f(x):", "        return x"]
     assert included_lines(md, "m.py", {"pyobject": "A.f", "dedent": "4"})[1] == "def f(x):"
     assert included_lines(md, "m.py", {"start-after": "[start]", "end-before": "[end]"}) == ["    y = 1"]
+    assert included_lines(md, "m.py", {"start-at": "def g", "end-at": '"y = 1\\n"'}) == [
+        "def g():", "    # [start]", "    y = 1"]
     for bad in ({"pyobject": "A.h"}, {"pyobject": "B"}, {"start-after": "[nowhere]"},
                 {"lines": "1-3"}, {"start-after": "return"}):
         with pytest.raises(AssertionError):

@@ -221,7 +221,10 @@ class Island:
         return par.value(x - self.x, y - self.y)
 
     def cliff_equation(self, x, y):
-        """Q_k(x, y) = P_k + Σ_j a_jk cos(ℓ_jk x + m_jk y + φ_jk) (eq. 4 with a phase), metres."""
+        """Q_k(x, y) = P_k + Σ_j a_jk cos(ℓ_jk x + m_jk y + φ_jk), metres.
+
+        The paper's eq. 4, with a phase.
+        """
         x, y = _xy(x, y)
         return self._cliff_value(x, y, self._phases(x, y))
 

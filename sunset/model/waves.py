@@ -224,8 +224,9 @@ class Sea:
                 f"{cycle}{g})")
 
     @classmethod
-    def periodic(cls, wavelength: float, amplitudes, directions, phases=None, stokes_orders=None,
-                 harmonics=None, gravity: float = GRAVITY) -> "Sea":
+    def periodic(cls, wavelength: float, amplitudes, directions, phases=None,
+                 stokes_orders=None, harmonics=None,
+                 gravity: float = GRAVITY) -> "Sea":
         """A sea whose trains have wavelengths λ/n², so every ω is n ω₁.
 
         Since ω = √(g k) and k = 2π n²/λ, train n has ω_n = n ω₁ exactly, and
@@ -263,7 +264,8 @@ class Sea:
             require_int_range(f"harmonics[{i}]", n, 1)
         return cls(tuple(
             WaveTrain(a, wavelength / n**2, d, p, s, gravity)
-            for a, d, p, s, n in zip(amplitudes, directions, phases, stokes_orders, harmonics)
+            for a, d, p, s, n in zip(amplitudes, directions, phases, stokes_orders,
+                                     harmonics)
         ), gravity)
 
     @property
@@ -341,8 +343,9 @@ class Sea:
         return fx.astype(dtype, copy=False), fy.astype(dtype, copy=False)
 
     def normal(self, x, y, t=0.0):
-        """Unit upward normal (x̄, ȳ, z̄), shape ``broadcast + (3,)`` (paper's normal formula).
+        """Unit upward normal (x̄, ȳ, z̄), shape ``broadcast + (3,)``.
 
-        z̄ = 1/√(f_x² + f_y² + 1), x̄ = −z̄ f_x, ȳ = −z̄ f_y; dtype as :meth:`elevation`.
+        The paper's normal formula: z̄ = 1/√(f_x² + f_y² + 1), x̄ = −z̄ f_x,
+        ȳ = −z̄ f_y; dtype as :meth:`elevation`.
         """
         return unit_normal(*self.gradient(x, y, t))
