@@ -450,13 +450,18 @@ def _join_values(argv: list[str]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 user error, 128 + n on signal n)."""
+    """Run the command line; returns the exit status.
+
+    0 ok, 2 user error, 128 + n on signal n.
+    """
     config_fallback()
     with signals_stop_the_command():
         try:
-            args = build_parser().parse_args(_join_values(list(sys.argv[1:] if argv is None else argv)))
+            words = list(sys.argv[1:] if argv is None else argv)
+            args = build_parser().parse_args(_join_values(words))
             COMMANDS[args.command](args)
-            check_stop()                       # a signal whose exception Python swallowed still ends the command
+            # a signal whose exception Python swallowed still ends the command
+            check_stop()
         except SunsetError as exc:
             print(f"sunset: error: {one_line(exc)}", file=sys.stderr)
             return 2
@@ -464,14 +469,20 @@ def main(argv: list[str] | None = None) -> int:
             print("sunset: interrupted", file=sys.stderr)
             return 130
         except Interrupted as exc:
-            print(f"sunset: stopped by {signal.Signals(exc.signum).name}", file=sys.stderr)
+            name = signal.Signals(exc.signum).name
+            print(f"sunset: stopped by {name}", file=sys.stderr)
             return 128 + exc.signum
         except MemoryError:
-            print("sunset: error: out of memory (use a smaller picture or fewer frames)", file=sys.stderr)
+            print("sunset: error: out of memory "
+                  "(use a smaller picture or fewer frames)", file=sys.stderr)
             return 2
-        except OSError as exc:                 # the file system said no where no check foresaw it
-            where = f"{shown(exc.filename)}: " if getattr(exc, "filename", None) else ""
-            print(f"sunset: error: {one_line(where + (exc.strerror or str(exc)))}", file=sys.stderr)
+        # the file system said no where no check foresaw it
+        except OSError as exc:
+            where = ""
+            if getattr(exc, "filename", None):
+                where = f"{shown(exc.filename)}: "
+            message = one_line(where + (exc.strerror or str(exc)))
+            print(f"sunset: error: {message}", file=sys.stderr)
             return 2
     return 0
 
