@@ -219,13 +219,16 @@ if hasattr(os, "register_at_fork"):
 
 
 def run_strips(fn, parts) -> list:
-    """``[fn(start, stop) for start, stop in parts]``, the strips shared out to the threads; results in order.
+    """``[fn(start, stop) for start, stop in parts]``, strips shared out to threads.
+
+    Results in order.
 
     With one thread, or one strip, or when called from one of the pool's own
     threads, the strips run here, one after the other.
     """
     parts = list(parts)
-    if threads() == 1 or len(parts) <= 1 or threading.current_thread().name.startswith("sunset"):
+    nested = threading.current_thread().name.startswith("sunset")
+    if threads() == 1 or len(parts) <= 1 or nested:
         return [fn(a, b) for a, b in parts]
     pool = _pool()
     futures = [pool.submit(fn, a, b) for a, b in parts]

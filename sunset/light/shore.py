@@ -145,14 +145,18 @@ def _points(island, phi, w):
 
 
 def texel_areas(island, phi_edges, w_edges, m: int = AREA_SUBSAMPLES) -> np.ndarray:
-    """True areas (n_w, n_φ) of the texels: ∫∫ r √(1 + |∇H|²) dφ dw by the midpoint rule, m² points each."""
+    """True areas (n_w, n_φ) of the texels: ∫∫ r √(1 + |∇H|²) dφ dw.
+
+    By the midpoint rule, m² points each.
+    """
     dphi, dw = phi_edges[1] - phi_edges[0], w_edges[1] - w_edges[0]
     sub = (np.arange(m) + 0.5) / m
-    phi = (phi_edges[:-1, None] + dphi * sub[None, :]).reshape(-1)          # (n_φ m,)
-    w = (w_edges[:-1, None] + dw * sub[None, :]).reshape(-1)                 # (n_w m,)
+    phi = (phi_edges[:-1, None] + dphi * sub[None, :]).reshape(-1)  # (n_φ m,)
+    w = (w_edges[:-1, None] + dw * sub[None, :]).reshape(-1)  # (n_w m,)
     x, y, r = _points(island, phi[None, :], w[:, None])
     _, gx, gy = smooth_surface(island, x, y)
-    dens = np.maximum(r, 0.0) * np.sqrt(1.0 + gx * gx + gy * gy) * (dphi / m) * (dw / m)
+    slope = np.sqrt(1.0 + gx * gx + gy * gy)
+    dens = np.maximum(r, 0.0) * slope * (dphi / m) * (dw / m)
     n_w, n_phi = len(w_edges) - 1, len(phi_edges) - 1
     return dens.reshape(n_w, m, n_phi, m).sum(axis=(1, 3))
 
