@@ -589,7 +589,8 @@ def test_stale_temporaries_of_killed_runs_are_removed(tmp_path, scene_file):
 # --------------------------------------------------------------------------- 15–16. signals
 
 def _start_film(tmp_path, *extra):
-    return subprocess.Popen([sys.executable, "-m", "sunset", "film", "carlas-island", "--frames", "12",
+    # long enough (400 frames) that even a fast, idle machine is still rendering when the signal comes
+    return subprocess.Popen([sys.executable, "-m", "sunset", "film", "carlas-island", "--frames", "400",
                              "--size", "200x150", "--quiet", "-o", str(tmp_path / "f.mp4"), *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
                             env={**os.environ, "SUNSET_WORKERS": "2"})
