@@ -91,7 +91,13 @@ book-check: $(VENV)/.stamp-book
 pdf: $(VENV)/.stamp-book
 	$(PY) book/pdf.py --execute $(BOOK_EXECUTE)
 
-all: figures $(BOOK_STAMP)
+# `make pdf` always prints; `make all` only when a source of the book changed.
+BOOK_PDF := book/_build/pdf/sunset-book.pdf
+
+$(BOOK_PDF): $(BOOK_SOURCES) $(VENV)/.stamp-book
+	$(PY) book/pdf.py --execute $(BOOK_EXECUTE)
+
+all: figures $(BOOK_STAMP) $(BOOK_PDF)
 
 test: $(VENV)/.stamp-test
 	$(PY) -m pytest
