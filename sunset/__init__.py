@@ -8,6 +8,7 @@ The public API, in the order of the paper's pipeline::
     rgb = sunset.expose(scene, codes, hours=0.5)          # film recorder
     sunset.make_film(scene, "sunset.mp4")     # one wave cycle, filmed as the sun sets
     wave = sunset.solve_stokes(0.12)          # an exact Stokes wave, H/λ = 0.12
+    series = sunset.stokes_series(30)         # Stokes' expansion to α³⁰, exact fractions
 
 and everything at once, for a notebook (a packaged scene's name works
 wherever a scene does; ``sunset.scene_names()`` lists them)::
@@ -36,7 +37,7 @@ _API = {
     "Island": ".model.islands", "Paraboloid": ".model.islands", "Scene": ".model.scene",
     "default_scene": ".model.scene", "render": ".vector.render", "solve_stokes": ".model.stokes_exact",
     "Sun": ".model.sun", "Sea": ".model.waves", "WaveTrain": ".model.waves", "scene_names": ".model.scene",
-    "picture": ".pictures",
+    "picture": ".pictures", "stokes_series": ".model.series",
 }
 
 
@@ -52,9 +53,8 @@ def __getattr__(name: str):
 def __dir__():
     return sorted(set(globals()) | set(_API))
 
-
 __all__ = [
     "Camera", "Cosine", "Frame", "Island", "Paraboloid", "Scene", "Sea", "Sun",
     "SunsetError", "WaveTrain", "default_scene", "encode", "expose", "make_film", "picture", "render",
-    "scene_names", "solve_stokes", "__version__",
+    "scene_names", "solve_stokes", "stokes_series", "__version__",
 ]

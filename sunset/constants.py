@@ -208,6 +208,14 @@ STOKES_TAIL_TOLERANCE = 1e-13
 STOKES_MIN_MODES = 16
 STOKES_MAX_MODES = 1024
 
+# --- Stokes' series by computer (sunset/model/series.py, issue 13).
+
+#: Largest order of the exact (rational) series: about a minute at 80 on one core.
+STOKES_SERIES_MAX_ORDER_EXACT = 80
+#: Largest order of the float64 series (its coefficients grow like 2.3^order,
+#: and lose about a digit every seven orders to round-off; see the series module).
+STOKES_SERIES_MAX_ORDER_FLOAT = 400
+
 #: Modes of the coarse grid on which the continuation runs; finer grids are
 #: reached by doubling, with one Newton solve each at the final height.
 STOKES_COARSE_MODES = 64
