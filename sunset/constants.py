@@ -213,7 +213,7 @@ STOKES_MAX_MODES = 1024
 #: Largest order of the exact (rational) series: about a minute at 80 on one core.
 STOKES_SERIES_MAX_ORDER_EXACT = 80
 #: Largest order of the float64 series (its coefficients grow like 2.3^order,
-#: and lose about a digit every seven orders to round-off; see the series module).
+#: and lose about a digit every eight orders to round-off; see the series module).
 STOKES_SERIES_MAX_ORDER_FLOAT = 400
 
 #: Modes of the coarse grid on which the continuation runs; finer grids are

@@ -24,7 +24,8 @@ one frame adds per pixel at several sizes, checked against
 broken), the film's encoder settings against the old ones (time and PSNR),
 POV-Ray on the exported scene at the frame's size when ``povray`` is
 installed, and the machine's load average before and after (the machine may
-be shared: the ratios in one run are what to read).
+be shared: the ratios in one run are what to read). And Stokes' series by
+computer, exact and in float64 (:mod:`sunset.bench.series`).
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ from pathlib import Path
 
 from ..constants import CRAY1_SECONDS_FIGURE6
 from . import extra
+from . import series as stokes_bench
 
 #: Repeats per measurement (after one warm-up run).
 REPEATS = 5
@@ -263,7 +265,8 @@ def _measure_rgb(width: int, height: int, repeats: int) -> dict:
 
 MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
                 "scaling": _measure_scaling, "profile": _measure_profile, "rgb": _measure_rgb,
-                "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits}
+                "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits,
+                "series": stokes_bench.measure_series}
 
 
 def _child(args) -> None:
@@ -338,7 +341,7 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
                   frame_sizes=FRAME_SIZES, cycle_size=CYCLE_SIZE, cycle_frames: int = CYCLE_FRAMES,
                   numpy_reference: bool = True, scaling: bool = True, profile: bool = True,
                   rgb: bool = True, memory_sizes=extra.MEMORY_SIZES, film_look: bool = True,
-                  povray: bool = True) -> dict:
+                  povray: bool = True, series: bool = False) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
@@ -414,8 +417,12 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         w, h = frame_sizes[-1]
         log(f"profile of a {w}x{h} frame (one thread: cProfile sees only its own) ...")
         report.update(measure("profile", w, h, 3, threads=1)["times"])
+    if series:
+        log("Stokes' series by computer, exact and float64 ...")
+        report["series"] = stokes_bench.rows(measure("series", 0, 0, repeats))
     mach["load_after"] = _load()
     print(format_table(rows))
+    print(stokes_bench.format_rows(report.get("series", [])))
     for m in report["memory"]["sizes"]:
         print(f"memory of one frame at {m['width']}x{m['height']}: {m['bytes_per_pixel']:.1f} bytes/pixel "
               f"(bound {extra.BYTES_PER_PIXEL_BOUND})")
@@ -471,7 +478,7 @@ def main(argv=None) -> int:
         return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     report = run_benchmark(args.out, args.repeats, args.brute_size, cycle=not args.no_cycle,
-                           povray=not args.no_povray)
+                           povray=not args.no_povray, series=True)
     if not report["memory"]["ok"]:
         print(f"sunset.bench: FAILED: one frame needs more than {extra.BYTES_PER_PIXEL_BOUND} bytes per pixel",
               file=sys.stderr)

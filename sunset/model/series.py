@@ -68,6 +68,7 @@ class StokesSeries:
     """
 
     def __init__(self, order: int, exact: bool = True):
+        _check_order(order, exact)
         self.order = int(order)
         self.exact = bool(exact)
         self._ring = Ring(self.exact)
@@ -98,6 +99,7 @@ class StokesSeries:
         }
         self._amplitudes: dict[int, np.ndarray] = {}
         self._powers: dict[str, list[tuple[np.ndarray, int]]] = {}
+        self._converted: dict[tuple[str, str], np.ndarray] = {}
 
     def __repr__(self) -> str:
         return f"StokesSeries(order={self.order}, exact={self.exact})"
@@ -113,7 +115,7 @@ class StokesSeries:
             return self._amplitude_eps(1)
         if quantity in self._eps:
             return self._eps[quantity]
-        if quantity.startswith("a") and quantity[1:].isdigit():
+        if isinstance(quantity, str) and quantity.startswith("a") and quantity[1:].isdigit():
             n = int(quantity[1:])
             if not 1 <= n <= self.order:
                 raise SunsetError(f"amplitude n must be in 1..{self.order} (the order), got {n}")
@@ -128,6 +130,12 @@ class StokesSeries:
         return self._powers[parameter]
 
     def _series(self, quantity: str, parameter: str) -> np.ndarray:
+        key = (quantity, parameter)
+        if key not in self._converted:
+            self._converted[key] = self._convert(quantity, parameter)
+        return self._converted[key]
+
+    def _convert(self, quantity: str, parameter: str) -> np.ndarray:
         if parameter not in PARAMETERS:
             raise SunsetError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
         eps = self._in_eps(quantity)
@@ -194,7 +202,13 @@ class StokesSeries:
     def _float(self, quantity: str, parameter: str, terms: int | None) -> np.ndarray:
         terms = self.order if terms is None else terms
         require_int_range("terms", terms, 1, self.order)
-        return np.array([float(v) for v in self._series(quantity, parameter)[: terms + 1]])
+        return self._floats(quantity, parameter)[: terms + 1]
+
+    def _floats(self, quantity: str, parameter: str) -> np.ndarray:
+        key = (quantity, parameter, "float")
+        if key not in self._converted:
+            self._converted[key] = np.array([float(v) for v in self._series(quantity, parameter)])
+        return self._converted[key]
 
     def pade(self, quantity: str, x, parameter: str = "epsilon", terms: int | None = None):
         """The diagonal Padé approximant of ``quantity``'s series, evaluated at x.
@@ -277,9 +291,13 @@ def stokes_series(order: int, exact: bool = True) -> StokesSeries:
     SunsetError
         For an order that is not an integer in range.
     """
+    _check_order(order, exact)
+    return _cached(int(order), bool(exact))
+
+
+def _check_order(order, exact) -> None:
     limit = STOKES_SERIES_MAX_ORDER_EXACT if exact else STOKES_SERIES_MAX_ORDER_FLOAT
     require_int_range("order", order, 1, limit)
-    return _cached(int(order), bool(exact))
 
 
 # --------------------------------------------------------------------------- the ratio test
@@ -291,6 +309,8 @@ class DombSykes(NamedTuple):
     radius: float          #: radius of convergence in x (signed: negative for a singularity at x^stride < 0)
     exponent: float        #: γ of the nearest singularity (1 − t/t₀)^γ: ½ for a square-root branch point
     fit_from: int          #: first k of the straight-line fit
+    intercept: float       #: of the line: 1/t₀
+    slope: float           #: of the line: −(1 + γ)/t₀
 
 
 def domb_sykes(coefficients, stride: int = 1, shift: int = 0, fit_last: int = 10) -> DombSykes:
@@ -322,4 +342,5 @@ def domb_sykes(coefficients, stride: int = 1, shift: int = 0, fit_last: int = 10
     slope, intercept = np.polyfit(1.0 / k[sel], ratios[sel], 1)
     t0 = 1.0 / intercept
     radius = math.copysign(abs(t0) ** (1.0 / stride), t0)
-    return DombSykes(k, ratios, radius, float(-slope / intercept - 1.0), int(k[sel][0]))
+    return DombSykes(k, ratios, radius, float(-slope / intercept - 1.0), int(k[sel][0]), float(intercept),
+                     float(slope))

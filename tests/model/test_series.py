@@ -295,3 +295,17 @@ def test_pade_and_partial_sum_shapes(shape):
     assert np.shape(s.pade("speed", x)) == shape
     assert np.shape(s.partial_sum("a2", x)) == shape
     np.testing.assert_allclose(s.pade("speed", x), float(s.pade("speed", 0.2)))
+
+
+def test_bench_times_the_series():
+    """The bench's series measurement (timing is never asserted, only what is measured)."""
+    from sunset.bench import series as stokes_bench
+
+    out = stokes_bench.measure_series(0, 0, 1, orders=((6, True), (8, False)))
+    assert set(out) == {"order 6, exact", "order 8, float64"}
+    assert all(len(v) == 1 and v[0] >= 0 for v in out.values())
+    assert (30, True) in stokes_bench.SERIES_ORDERS
+    assert any(o >= 100 and not e for o, e in stokes_bench.SERIES_ORDERS)
+    rows = stokes_bench.rows({"times": out, "peak_rss_mib": 1.0})
+    assert [r["median_s"] for r in rows] == [v[0] for v in out.values()]
+    assert "order 6, exact" in stokes_bench.format_rows(rows)
