@@ -53,9 +53,11 @@ With ``exact=True`` (the default) every coefficient is a
 by integers. With ``exact=False`` it runs in float64, the same code, fast to
 orders in the hundreds; but the float coefficients drift from the exact ones
 by round-off that grows with the order: about 1e-11 relative at order 30
-(tested), and a digit lost every eight orders or so beyond, because each
-coefficient is a sum of terms much larger than itself. The Padé continuation
-of the book therefore uses the exact series.
+(tested), and a digit lost every eight or nine orders beyond: at each order
+the largest conformal coefficient (a high harmonic, m near 0.8 p) outgrows
+the physical coefficients summed from such terms by about 1.3 per order, so
+the sums cancel more and more digits. The Padé continuation of the book
+therefore uses the exact series.
 """
 
 from __future__ import annotations
