@@ -59,7 +59,7 @@ class SeriesWave(NamedTuple):
 
 
 class StokesSeries:
-    """Stokes' expansion to a given order (from :func:`stokes_series`).
+    """Stokes' expansion to a given order (from ``sunset.stokes_series``).
 
     The coefficient of x^p is at index p of every tuple, p = 0..order, with x
     the expansion parameter: ``"alpha"`` (α = k a₁, the paper's, the default),
@@ -213,7 +213,7 @@ class StokesSeries:
     def pade(self, quantity: str, x, parameter: str = "epsilon", terms: int | None = None):
         """The diagonal Padé approximant of ``quantity``'s series, evaluated at x.
 
-        Built with :func:`scipy.interpolate.pade` from the first ``terms`` + 1
+        Built with ``scipy.interpolate.pade`` from the first ``terms`` + 1
         coefficients. A series that is even or odd (the speed and the
         amplitudes in α or ε) is continued in x², so that the approximant
         keeps that symmetry. Padé's linear system is badly conditioned at high
