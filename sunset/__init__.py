@@ -53,6 +53,7 @@ def __getattr__(name: str):
 def __dir__():
     return sorted(set(globals()) | set(_API))
 
+
 __all__ = [
     "Camera", "Cosine", "Frame", "Island", "Paraboloid", "Scene", "Sea", "Sun",
     "SunsetError", "WaveTrain", "default_scene", "encode", "expose", "make_film", "picture", "render",
