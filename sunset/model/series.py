@@ -210,7 +210,8 @@ class StokesSeries:
             self._converted[key] = np.array([float(v) for v in self._series(quantity, parameter)])
         return self._converted[key]
 
-    def pade(self, quantity: str, x, parameter: str = "epsilon", terms: int | None = None):
+    def pade(self, quantity: str, x, parameter: str = "epsilon",
+             terms: int | None = None):
         """The diagonal Padé approximant of ``quantity``'s series, evaluated at x.
 
         Built with ``scipy.interpolate.pade`` from the first ``terms`` + 1
@@ -234,7 +235,10 @@ class StokesSeries:
         N = len(g) - 1
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            p, q = _scipy_pade(g, N // 2, N - N // 2) if N >= 1 else (np.poly1d(g), np.poly1d([1.0]))
+            if N >= 1:
+                p, q = _scipy_pade(g, N // 2, N - N // 2)
+            else:
+                p, q = np.poly1d(g), np.poly1d([1.0])
         t = X**stride / scale
         return X**shift * p(t) / q(t)
 

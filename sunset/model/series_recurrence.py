@@ -221,7 +221,8 @@ def conformal_rows(P: int, ring: Ring):
     Returns the rows Y_p = (numerators, denominator), p = 0..P, and C_j,
     j = 0..P−1, the coefficients of c² (C_{P−1} needs order P).
     """
-    rows = [(_int_zeros(1, ring), 1), (_int_zeros(2, ring) + 1, 2)]  # Y_1 = (ζ + 1/ζ)/2: y = ε cos u
+    # Y_1 = (ζ + 1/ζ)/2: y = ε cos u
+    rows = [(_int_zeros(1, ring), 1), (_int_zeros(2, ring) + 1, 2)]
     mods = [np.abs(modes(p)) for p in range(P + 1)]
     C = ring.zeros(P)
     C[0] = ring.one
@@ -231,8 +232,9 @@ def conformal_rows(P: int, ring: Ring):
         for j in range(1, p):
             (a, da), (b, db) = rows[j], rows[p - j]
             # Y_j 𝒦Y_{p−j} + ½ 𝒦(Y_j Y_{p−j}), over 2 da db
-            parts.append((2 * np.convolve(a, mods[p - j] * b) + m * np.convolve(a, b), 2 * da * db))
-        for j in range(2, p - 1, 2):  # − C_j 𝒦Y_{p−j}; C_j vanishes for odd j
+            term = 2 * np.convolve(a, mods[p - j] * b) + m * np.convolve(a, b)
+            parts.append((term, 2 * da * db))
+        for j in range(2, p - 1, 2):  # − C_j 𝒦Y_{p−j}; C_j = 0 for odd j
             cn, cd = _as_pair(C[j], ring)
             b, db = rows[p - j]
             embedded = _int_zeros(p + 1, ring)
@@ -241,9 +243,11 @@ def conformal_rows(P: int, ring: Ring):
         R, L = _sum_rows(parts, p + 1, ring)
         inner = m >= 2
         row = _int_zeros(p + 1, ring)
-        if ring.exact:  # (𝒦 − 1)^{−1}: divide harmonic m by |m| − 1, over one denominator M
+        # (𝒦 − 1)^{−1}: divide harmonic m by |m| − 1, over one denominator M
+        if ring.exact:
             M = math.lcm(*(int(v) - 1 for v in m[inner])) if inner.any() else 1
-            row[inner] = R[inner] * np.array([M // (int(v) - 1) for v in m[inner]], dtype=object)
+            factors = [M // (int(v) - 1) for v in m[inner]]
+            row[inner] = R[inner] * np.array(factors, dtype=object)
         else:
             M = 1
             row[inner] = R[inner] / (m[inner] - 1)
@@ -251,11 +255,13 @@ def conformal_rows(P: int, ring: Ring):
         den = L * M
         if p % 2 == 1:
             i1 = (p + 1) // 2  # the index of ζ^{+1}
-            # The ζ^{±1} component: C_{p−1} · ½ = R_p there (𝒦 − 1 vanishes on it).
+            # The ζ^{±1} component: C_{p−1} · ½ = R_p there (𝒦 − 1 is 0 on it).
             C[p - 1] = Fraction(2 * R[i1], L) if ring.exact else 2 * R[i1]
-            # Its free first harmonic makes the odd harmonics add up to 0: height exactly 2ε.
+            # Its free first harmonic makes the odd harmonics add up to 0:
+            # the height is exactly 2ε.
             row, den = 2 * row, 2 * den
-            row[i1] = row[i1 - 1] = (-row.sum()) // 2 if ring.exact else -row.sum() / 2
+            half = (-row.sum()) // 2 if ring.exact else -row.sum() / 2
+            row[i1] = row[i1 - 1] = half
         rows.append(_reduce(row, den, ring))
     return rows, C
 
@@ -267,7 +273,8 @@ def eulerian_amplitude(rows, n: int, P: int, ring: Ring) -> np.ndarray:
     needed at the harmonics k with |k + n| <= P − q, and those depend on the
     same window of the rows below, so only that window is computed.
     """
-    T = [(num * np.sign(modes(p)), den) for p, (num, den) in enumerate(rows[: P + 1])]
+    T = [(num * np.sign(modes(p)), den)
+         for p, (num, den) in enumerate(rows[: P + 1])]
     W = [(num * modes(p), den) for p, (num, den) in enumerate(rows[: P + 1])]
 
     def window(q: int) -> tuple[int, int]:
@@ -293,13 +300,15 @@ def eulerian_amplitude(rows, n: int, P: int, ring: Ring) -> np.ndarray:
         G.append((lo, num, den))
     out = ring.zeros(P + 1)
     for p in range(n, P + 1, 2):
-        h = (p - n) // 2  # G_{p−j}[h − i] pairs with W_j[i]: the harmonic −m − n
+        h = (p - n) // 2  # G_{p−j}[h − i] pairs with W_j[i]: harmonic −m − n
         total = ring.zeros(1)[0]
         for j in range(1, p + 1):
             glo, g, gden = G[p - j]
             i_lo, i_hi = max(0, h - glo - len(g) + 1), min(j, h - glo)
             if i_hi >= i_lo:
-                dot = np.dot(W[j][0][i_lo:i_hi + 1], g[h - glo - i_hi:h - glo - i_lo + 1][::-1])
-                total += Fraction(int(dot), W[j][1] * gden) if ring.exact else dot / (W[j][1] * gden)
+                g_part = g[h - glo - i_hi:h - glo - i_lo + 1][::-1]
+                dot = np.dot(W[j][0][i_lo:i_hi + 1], g_part)
+                d = W[j][1] * gden
+                total += Fraction(int(dot), d) if ring.exact else dot / d
         out[p] = -2 * total / n
     return out
