@@ -34,8 +34,9 @@ help:
 	@echo "make book-check  open every page of the built book in headless Chromium and check it"
 	@echo "make pdf       the whole book as one PDF, book/_build/pdf/sunset-book.pdf (Chromium, offline)"
 	@echo "make bench     time the renderer (writes figures/bench.json)"
-.PHONY: all figures test book book-check pdf bench bench-player lock clean help
-.DELETE_ON_ERROR:
+	@echo "make bench-player  time the colour-table player in headless Chromium (figures/player-bench.json)"
+	@echo "make lock      re-resolve requirements/*.lock after pyproject.toml changes (LOCK_FLAGS=--upgrade: newest releases)"
+	@echo "make clean     remove what make wrote: figures/, the environments, the book's build, the caches"
 
 # ---------------------------------------------------------------- the environment
 $(VENV)/bin/python:
@@ -68,7 +69,10 @@ SOURCES    := $(shell find sunset -name '*.py' -o -name '*.toml')
 figures/.deps.mk: $(SOURCES)
 	@$(PYTHON) sunset/figures/deps.py figures > $@.tmp && mv $@.tmp $@
 
+# (not for `make clean`, which would otherwise write the rules only to remove them)
+ifneq ($(filter-out clean,$(or $(MAKECMDGOALS),help)),)
 -include figures/.deps.mk
+endif
 
 figures: $(FIGURE_FILES)
 
@@ -109,6 +113,10 @@ bench-player: $(VENV)/.stamp-test
 	$(PY) -m sunset player carlas-island -o figures/player.html --quiet
 	$(PY) book/browser_check.py --player-bench figures/player.html --out figures/player-bench.json
 
+# Everything make and the test suite write; figures/.gitkeep and the sources stay.
+CLEAN_FIGURES := $(filter-out figures/.gitkeep,$(wildcard figures/* figures/.deps.mk figures/.deps.mk.tmp))
+
 clean:
-.PHONY: all figures test book book-check pdf bench bench-player lock clean help
-.DELETE_ON_ERROR:
+	rm -rf $(VENV) .venv-lock book/_build book/.jupyter_cache build dist .pytest_cache .hypothesis $(CLEAN_FIGURES)
+	rm -rf sunset_waves.egg-info sunset.egg-info
+	find sunset tests book -name __pycache__ -type d -prune -exec rm -rf {} +

@@ -300,15 +300,20 @@ def write_bytes(path: str | os.PathLike, data: bytes) -> None:
 def png_bytes(rgb: np.ndarray, metadata: dict[str, str] | None = None) -> bytes:
     """Encode an (H, W, 3) or (H, W) uint8 image as PNG with text metadata.
 
-    The encoding is deterministic: no timestamp chunk, keys in the given order.
+    Every PNG records what made it: ``Software`` and ``sunset:provenance``
+    (the versions of :func:`sunset.provenance.provenance`) are added to
+    ``metadata`` unless it has them (:func:`sunset.provenance.stamped`). The
+    encoding is deterministic: no timestamp chunk, keys in the given order.
     """
     from PIL import Image, PngImagePlugin
+
+    from .provenance import stamped
 
     arr = np.ascontiguousarray(rgb)
     if arr.dtype != np.uint8:
         raise TypeError(f"expected a uint8 image, got {arr.dtype}")
     info = PngImagePlugin.PngInfo()
-    for key, value in (metadata or {}).items():
+    for key, value in stamped(metadata).items():
         info.add_itxt(key, str(value))
     buf = io.BytesIO()
     Image.fromarray(arr).save(buf, format="PNG", pnginfo=info, optimize=False, compress_level=6)
@@ -331,12 +336,10 @@ def save_matplotlib(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
     (``sunset:provenance``, as every PNG of the package), and not matplotlib's
     own ``Software`` line.
     """
-    from . import __version__
-    from .provenance import provenance_json
+    from .provenance import stamped
 
     check_writable(path, PNG_SUFFIXES)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi,
-                metadata={"Software": f"sunset {__version__}", "sunset:provenance": provenance_json()})
+    fig.savefig(buf, format="png", dpi=dpi, metadata=stamped())
     write_bytes(path, buf.getvalue())
     return Path(path)

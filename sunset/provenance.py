@@ -20,7 +20,7 @@ import platform
 import sys
 from importlib import metadata
 
-__all__ = ["DISTRIBUTION", "package_version", "provenance", "provenance_json", "environment", "info_text"]
+__all__ = ["DISTRIBUTION", "package_version", "provenance", "provenance_json", "stamped", "environment", "info_text"]
 
 #: The name this package is installed under (``pip install sunset-waves``); it imports as ``sunset``.
 DISTRIBUTION = "sunset-waves"
@@ -71,6 +71,24 @@ def provenance() -> dict[str, str]:
 def provenance_json() -> str:
     """:func:`provenance` as compact JSON with sorted keys (what the files store)."""
     return json.dumps(provenance(), sort_keys=True, separators=(",", ":"))
+
+
+def stamped(metadata: dict[str, str] | None = None) -> dict[str, str]:
+    """``metadata`` with what every image this package writes carries: ``Software`` and ``sunset:provenance``.
+
+    The text chunks of a PNG (and the description of the film's preview):
+    ``Software`` (``sunset <version>``) first unless given, then ``metadata``
+    in its order, then ``sunset:provenance`` (:func:`provenance_json`) unless
+    given. A dict that has both already comes back equal, in the same order.
+
+    >>> list(stamped({"sunset:settings": "{}"}))
+    ['Software', 'sunset:settings', 'sunset:provenance']
+    """
+    given = dict(metadata or {})
+    out = {} if "Software" in given else {"Software": f"sunset {package_version(DISTRIBUTION)}"}
+    out.update(given)
+    out.setdefault("sunset:provenance", provenance_json())
+    return out
 
 
 def environment() -> dict[str, str]:

@@ -90,6 +90,57 @@ def test_readme_image_works_on_a_package_index_page():
         assert (ROOT / url.split("/main/", 1)[1]).is_file(), f"{url} names no file of this repository"
 
 
+def book_repository_url() -> str:
+    """``repository: url:`` of book/_config.yml (the book's link to its repository; empty while unpublished)."""
+    text = (ROOT / "book" / "_config.yml").read_text(encoding="utf-8")
+    m = re.search(r"^repository:\s*\n\s+url:\s*\"?([^\"\n]*)\"?\s*$", text, re.M)
+    assert m, "book/_config.yml has no repository url"
+    return m.group(1).strip()
+
+
+def test_every_url_of_the_project_names_one_repository_and_its_book():
+    """pyproject.toml, CITATION.cff, README.md (links and picture) and book/_config.yml name one place.
+
+    The Repository URL is the one source: Issues is its issue tracker, Homepage and
+    Documentation the book on its Pages site; CITATION.cff cites the same two, and
+    no file names another repository or Pages site.
+    """
+    urls = PROJECT["urls"]
+    m = re.fullmatch(r"https://github\.com/([\w.-]+)/([\w.-]+)", urls["Repository"])
+    assert m, urls["Repository"]
+    owner, name = m.groups()
+    book = f"https://{owner}.github.io/{name}/"
+    assert urls["Issues"] == urls["Repository"] + "/issues"
+    assert urls["Homepage"] == urls["Documentation"] == book
+    assert cff_value("repository-code") == urls["Repository"]
+    assert cff_value("url") == book
+    texts = {"pyproject.toml": (ROOT / "pyproject.toml").read_text(encoding="utf-8"), "CITATION.cff": CITATION,
+             "README.md": README, "environment.yml": (ROOT / "environment.yml").read_text(encoding="utf-8")}
+    allowed = {f"github.com/{owner}/{name}", f"raw.githubusercontent.com/{owner}/{name}", f"{owner}.github.io/{name}"}
+    for file, text in texts.items():
+        for host, path in re.findall(r"https?://((?:[\w-]+\.)*(?:github\.com|githubusercontent\.com|github\.io))"
+                                     r"(/[\w.-]+(?:/[\w.-]+)?)?", text):
+            named = host + ("/" + "/".join(path.strip("/").split("/")[:2]) if "github.io" not in host
+                            else "/" + path.strip("/").split("/")[0]) if path else host
+            assert named in allowed, f"{file} names {named}, not {urls['Repository']}"
+    repository = book_repository_url()
+    assert repository in ("", urls["Repository"]), f"book/_config.yml's repository url is {repository}"
+
+
+def test_readme_says_whether_the_urls_resolve_yet():
+    """While the book's repository link is empty (nothing published), README.md says so, naming both places;
+    once book/_config.yml links the repository, the note must go."""
+    note = re.search(r"\*\*Not yet published\.\*\*(.+?)\n\n", README, re.S)
+    if book_repository_url():
+        assert note is None, "the book links its repository: remove README's 'Not yet published' note"
+        return
+    assert note, "README.md must say that the project URLs do not resolve yet"
+    text = " ".join(note.group(1).split())
+    assert f"<{PROJECT['urls']['Repository']}>" in text and f"<{PROJECT['urls']['Documentation']}>" in text
+    assert "make book" in text and "book/images/fig6-510x512.png" in text
+    assert "pip install ." in README
+
+
 @pytest.mark.parametrize("path", ["environment.yml", "Makefile", "CITATION.cff", "requirements/test.lock",
                                   "requirements/book.lock", "requirements/runtime.lock",
                                   "book/images/fig6-510x512.png", "book/api.md", "tests/test_lock.py"])

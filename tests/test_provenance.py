@@ -1,17 +1,26 @@
-"""Every output records what made it (sunset/provenance.py): PNGs, matplotlib figures, the tape, `sunset info`."""
+"""Every output records what made it (sunset/provenance.py), one test per writer.
+
+PNGs (rendered frames, matplotlib figures, the RGB back end's 8- and 16-bit
+PNGs, any PNG made by sunset.io.png_bytes), the tape, the player's HTML and
+the PNG frames inside it, the POV-Ray export, `sunset info`; the MP4 and its
+previews are checked in tests/recorder/test_film_container.py. A last test
+reads the package's source: every image it saves goes through one of these
+writers.
+"""
 
 import json
 import platform
 from importlib import metadata
 
 import numpy as np
+import pytest
 from matplotlib.figure import Figure
 from PIL import Image
 
 from sunset.cli import main
-from sunset.io import save_matplotlib
+from sunset.io import png_bytes, save_matplotlib, save_png
 from sunset.model.scene import Scene
-from sunset.provenance import DISTRIBUTION, environment, provenance, provenance_json
+from sunset.provenance import DISTRIBUTION, environment, provenance, provenance_json, stamped
 from sunset.tape.tapefile import Tape, parse_tape, read_tape, tape_bytes, write_tape
 
 
@@ -90,3 +99,93 @@ def test_sunset_info_prints_every_version(capsys):
     for name, version in provenance().items():
         assert any(line.split()[:2] == [name, version] for line in out.splitlines()), (name, out)
     assert "frame workers" in out and "kernels" in out
+
+
+def png_text(data: bytes) -> dict[str, str]:
+    """The text chunks (tEXt, iTXt, zTXt) of a PNG, as Pillow reads them."""
+    import io
+
+    with Image.open(io.BytesIO(data)) as im:
+        im.load()
+        return dict(im.text)
+
+
+def test_stamped_adds_software_and_provenance_and_keeps_the_rest():
+    version = provenance()["sunset"]
+    assert stamped() == {"Software": f"sunset {version}", "sunset:provenance": provenance_json()}
+    given = {"sunset:settings": "{}", "Title": "x"}
+    out = stamped(given)
+    assert list(out) == ["Software", "sunset:settings", "Title", "sunset:provenance"]
+    assert given == {"sunset:settings": "{}", "Title": "x"}           # not changed in place
+    own = {"Software": "me", "a": "1", "sunset:provenance": "{}"}
+    assert list(stamped(own).items()) == list(own.items())
+
+
+def test_every_png_of_png_bytes_records_provenance(tmp_path):
+    """Also a PNG made with no metadata at all (the player's frames are such PNGs)."""
+    grey = np.arange(12, dtype=np.uint8).reshape(3, 4)
+    text = png_text(png_bytes(grey))
+    assert json.loads(text["sunset:provenance"]) == provenance()
+    assert text["Software"] == f"sunset {provenance()['sunset']}"
+    path = save_png(tmp_path / "a.png", np.zeros((2, 3, 3), np.uint8), {"note": "x"})
+    text = png_text(path.read_bytes())
+    assert text["note"] == "x" and json.loads(text["sunset:provenance"]) == provenance()
+
+
+@pytest.mark.parametrize("depth", [8, 16])
+def test_rgb_back_end_pngs_record_provenance(tmp_path, depth):
+    from sunset.light.output import save_rgb
+
+    display = np.linspace(0, 1, 2 * 3 * 3).reshape(2, 3, 3)
+    path = save_rgb(tmp_path / "a.png", display, depth=depth, metadata={"sunset:settings": "{}"})
+    text = png_text(path.read_bytes())
+    assert json.loads(text["sunset:provenance"]) == provenance()
+    assert text["sunset:settings"] == "{}"
+
+
+def test_the_player_page_and_its_frames_record_provenance(tmp_path):
+    import base64
+
+    from sunset.recorder.player import read_player_data, write_player
+
+    path = write_player(Scene.default(), tmp_path / "p.html", frames=2, size=(16, 12), from_hours=0.5,
+                        to_hours=0.45, progress=False)
+    page = path.read_text(encoding="utf-8")
+    data = read_player_data(page)
+    assert data["provenance"] == provenance()
+    assert f'<meta name="generator" content="sunset {provenance()["sunset"]}">' in page
+    assert len(data["codes"]) == 2
+    for frame in data["codes"]:
+        assert json.loads(png_text(base64.b64decode(frame))["sunset:provenance"]) == provenance()
+
+
+def test_the_pov_export_records_provenance():
+    from sunset.model.pov import pov_scene
+
+    lines = pov_scene(Scene.default().with_size(8, 6)).splitlines()
+    made = [ln for ln in lines if ln.startswith("// made by: ")]
+    assert len(made) == 1
+    assert json.loads(made[0].removeprefix("// made by: ")) == provenance()
+
+
+def test_every_image_the_package_saves_goes_through_a_recording_writer():
+    """Reads the source: Pillow's ``.save(``, matplotlib's ``savefig`` and hand-made PNG chunks appear only in
+    the writers tested above, so a new writer cannot skip the provenance unnoticed. (NumPy's ``np.save``
+    writes the RGB back end's .npy, a bare array format with no place for text.)"""
+    import re
+    from pathlib import Path
+
+    package = Path(__file__).resolve().parents[1] / "sunset"
+    allowed = {"io.py": {"save", "savefig"}, "recorder/film.py": {"save"}, "light/output.py": {"IHDR"}}
+    found = {}
+    for path in package.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        kinds = {k for k, pattern in (("save", r"(?<!np)\.save\("),
+                                       ("savefig", r"\.savefig\("), ("IHDR", r'b"IHDR"'))
+                 if re.search(pattern, text)}
+        if kinds:
+            found[path.relative_to(package).as_posix()] = kinds
+    for name, kinds in found.items():
+        assert name in allowed and kinds <= allowed[name], f"sunset/{name} saves an image itself: {kinds}"
+    film = (package / "recorder" / "film.py").read_text(encoding="utf-8")
+    assert film.count("exif=preview_exif()") == 1 and film.count("comment=provenance_json()") == 1

@@ -47,7 +47,14 @@ def _chunk(kind: bytes, data: bytes) -> bytes:
 
 
 def png16_bytes(rgb16: np.ndarray, metadata: dict[str, str] | None = None) -> bytes:
-    """Encode an (H, W, 3) uint16 image as a 16-bit RGB PNG (with tEXt metadata)."""
+    """Encode an (H, W, 3) uint16 image as a 16-bit RGB PNG (with tEXt metadata and the provenance).
+
+    As every PNG of the package, it records what made it: ``metadata`` with
+    ``Software`` and ``sunset:provenance`` added unless given
+    (:func:`sunset.provenance.stamped`).
+    """
+    from ..provenance import stamped
+
     arr = np.asarray(rgb16)
     if arr.dtype != np.uint16 or arr.ndim != 3 or arr.shape[2] != 3:
         raise TypeError(f"expected an (H, W, 3) uint16 image, got {arr.dtype} {arr.shape}")
@@ -55,7 +62,7 @@ def png16_bytes(rgb16: np.ndarray, metadata: dict[str, str] | None = None) -> by
     rows = np.ascontiguousarray(arr.astype(">u2")).view(np.uint8).reshape(h, w * 6)   # big-endian samples
     raw = np.concatenate([np.zeros((h, 1), np.uint8), rows], axis=1).tobytes()     # filter type 0 per row
     out = [b"\x89PNG\r\n\x1a\n", _chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 16, 2, 0, 0, 0))]
-    for key, value in (metadata or {}).items():
+    for key, value in stamped(metadata).items():
         out.append(_chunk(b"tEXt", key.encode("latin-1") + b"\x00" + str(value).encode("latin-1", "replace")))
     out.append(_chunk(b"IDAT", zlib.compress(raw, 6)))
     out.append(_chunk(b"IEND", b""))

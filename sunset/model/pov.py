@@ -161,6 +161,7 @@ def _sea_gradient_bound(scene: Scene) -> float:
 def pov_scene(scene: Scene, t: float = 0.0) -> str:
     """The scene at time ``t`` (seconds) as a POV-Ray 3.7 scene file (text); see the module docstring."""
     from ..errors import require_finite
+    from ..provenance import provenance_json
 
     require_finite("t", t)
     cam = scene.camera
@@ -174,6 +175,7 @@ def pov_scene(scene: Scene, t: float = 0.0) -> str:
         f"// {scene.title or 'sunset scene'} at t = {_n(t)} s, written by `sunset export pov` for POV-Ray 3.7.",
         "// This package's point (x, y, z) (x right, y forward, z up) is POV-Ray's <x, z, y>.",
         f"// Render at the scene's size: povray +I<this file> +W{cam.width} +H{cam.height} -A +FN",
+        f"// made by: {provenance_json()}",
         *([f"// not exported: {', '.join(k for k, v in (('clouds', scene.clouds), ('posts', scene.posts)) if v)}"]
           if scene.clouds is not None or scene.posts else []),
         "#version 3.7;",

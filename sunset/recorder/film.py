@@ -226,6 +226,22 @@ def _preview_image(rgb: np.ndarray, width: int):
     return img
 
 
+def preview_exif() -> bytes:
+    """The WebP preview's EXIF: ``Software`` (sunset's version) and, as its ``ImageDescription``, the provenance.
+
+    The GIF preview carries the same JSON (:func:`sunset.provenance.provenance_json`) as its comment.
+    """
+    from PIL import Image
+
+    from ..provenance import stamped
+
+    text = stamped()
+    exif = Image.Exif()
+    exif[0x0131] = text["Software"]                 # Software
+    exif[0x010E] = text["sunset:provenance"]        # ImageDescription
+    return exif.tobytes()
+
+
 #: Name endings of the film and of its preview.
 FILM_SUFFIXES = (".mp4",)
 PREVIEW_SUFFIXES = (".gif", ".webp")
@@ -317,7 +333,9 @@ def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.P
         :data:`PREVIEW_FRAMES`), ``preview_width`` pixels wide. A WebP is
         RGB: every frame is a key frame (WebP's animation encoder otherwise
         stores the changes between frames with an alpha channel), on an
-        opaque background.
+        opaque background. It records the provenance too: a WebP in its
+        EXIF (``Software``, and the versions as ``ImageDescription``,
+        :func:`preview_exif`), a GIF as its comment.
     from_hours, to_hours : float
         Hours before sunset at the first and the last film frame.
     cycles : int
@@ -351,6 +369,7 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
     Both files are written atomically and land together (or neither does).
     """
     from ..io import atomic_write
+    from ..provenance import provenance_json
 
     step = max(1, -(-total // PREVIEW_FRAMES))
     preview = []
@@ -380,10 +399,10 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
         if Path(path_preview).suffix.lower() == ".webp":
             preview[0].save(buf, format="WEBP", save_all=True, append_images=preview[1:], loop=0,
                             duration=round(1000 * step / fps), quality=80, method=4,
-                            background=(0, 0, 0, 255), kmin=0, kmax=1)
+                            background=(0, 0, 0, 255), kmin=0, kmax=1, exif=preview_exif())
         else:
             preview[0].save(buf, format="GIF", save_all=True, append_images=preview[1:], loop=0,
-                            duration=round(1000 * step / fps), optimize=False)
+                            duration=round(1000 * step / fps), optimize=False, comment=provenance_json())
         write_bytes(path_preview, buf.getvalue())
         written.append(Path(path_preview))
     return written

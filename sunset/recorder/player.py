@@ -35,6 +35,12 @@ What the player's data holds
     (:func:`encode_thresholds`): byte(x) = the number of thresholds <= x,
     exactly what :func:`sunset.expose` rounds to, with no power function in
     JavaScript.
+``provenance``
+    What made the page: the versions of sunset, Python, NumPy, Numba and
+    colour-science (:func:`sunset.provenance.provenance`), as every file the
+    package writes records them; each frame's PNG carries them too (its
+    ``sunset:provenance`` text chunk), and the page's ``generator`` meta tag
+    names the version of sunset.
 ``groups``, ``meanings``
     The code map (name, first, last code and a label per group) and, for
     each of the 256 codes, what its number says (the code inspector).
@@ -277,6 +283,8 @@ def player_data(tape, grid, start_hours: float | None = None, progress: bool = F
         Processes computing the tables; default as for the frames
         (:func:`~sunset.tape.cycle.frame_workers`). The data does not depend on it.
     """
+    from ..provenance import provenance
+
     scene = tape.scene
     grid = np.asarray(grid, dtype=np.float64).reshape(-1)
     if grid.size == 0:
@@ -295,6 +303,7 @@ def player_data(tape, grid, start_hours: float | None = None, progress: bool = F
     return {
         "format": PLAYER_FORMAT,
         "sunset_version": tape.version,
+        "provenance": provenance(),
         "title": scene.title or "sunset",
         "width": int(scene.camera.width),
         "height": int(scene.camera.height),
@@ -342,8 +351,10 @@ def player_fragment(data: dict) -> str:
 def player_html(data: dict) -> str:
     """The player as one self-contained HTML document: nothing is loaded from anywhere."""
     title = html.escape(f"{data['title']}: the colour-table player")
+    made_by = html.escape(f"sunset {data.get('sunset_version', '')}".strip())
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
             "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+            f"<meta name=\"generator\" content=\"{made_by}\">\n"
             f"<title>{title}</title>\n</head>\n<body>\n{player_fragment(data)}</body>\n</html>\n")
 
 

@@ -90,6 +90,18 @@ def test_mp4_carries_its_provenance(film):
     assert provenance_json().encode() in film[0].read_bytes()
 
 
+def test_previews_carry_their_provenance(film, tape, tmp_path):
+    """The WebP preview in its EXIF (Software, ImageDescription), a GIF preview as its comment."""
+    with Image.open(film[1]) as im:
+        exif = im.getexif()
+        assert json.loads(exif[0x010E]) == provenance()
+        assert exif[0x0131] == f"sunset {provenance()['sunset']}"
+    gif = write_film(tape, tmp_path / "g.mp4", tmp_path / "g.gif", from_hours=1.0, to_hours=0.9, cycles=1, fps=12,
+                     progress=False)[1]
+    with Image.open(gif) as im:
+        assert json.loads(im.info["comment"]) == provenance()
+
+
 def test_webp_preview_is_rgb_with_an_opaque_background(film):
     data = film[1].read_bytes()
     assert data[:4] == b"RIFF" and data[8:16] == b"WEBPVP8X"
