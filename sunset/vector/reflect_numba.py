@@ -212,73 +212,75 @@ def island_table(islands, eye_height: float, z0: float) -> np.ndarray:
 
 
 @_jit
-def _island_candidates(q, r, X, Y, rho, top_h, cand):
-    """The bounding test of sunset.vector.pierce.island_candidates for one island; candidates' indices into cand."""
-    n = 0
-    rr = rho * rho
-    for j in range(q.shape[0]):
-        qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
-        rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
-        cx = X - qx
-        cy = Y - qy
-        horiz = math.sqrt(rx * rx + ry * ry)
-        along = rx * cx + ry * cy
-        near_line = (abs(rx * cy - ry * cx) <= rho * horiz) & (along > -rho * horiz)
-        low_enough = (along - rho * horiz) * rz <= (top_h - qz) * horiz * horiz
-        keep = (rz < 0.0) | (near_line & low_enough) | (cx * cx + cy * cy <= rr)
-        cand[n] = j
-        n += keep  # branch-free compress
-    return n
+def _is_candidate(qx, qy, qz, rx, ry, rz, X, Y, rho, top_h):
+    """The bounding test of sunset.vector.pierce.island_candidates for one ray and one island."""
+    cx = X - qx
+    cy = Y - qy
+    horiz = math.sqrt(rx * rx + ry * ry)
+    along = rx * cx + ry * cy
+    near_line = (abs(rx * cy - ry * cx) <= rho * horiz) & (along > -rho * horiz)
+    low_enough = (along - rho * horiz) * rz <= (top_h - qz) * horiz * horiz
+    return (rz < 0.0) | (near_line & low_enough) | (cx * cx + cy * cy <= rho * rho)
 
 
 @_jit
-def _pierce_island(q, r, cand, row, h, k, part_beach, part_cliff, part_hill, best, which, part):
-    """sunset.vector.pierce.pierce_island for the candidate rays of one island, keeping the nearest hit so far."""
+def _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hill):
+    """sunset.vector.pierce.pierce_island for one ray: (distance, part), +inf where it misses."""
     X, Y = row[0], row[1]
     e, f, g = row[2], row[3], row[4]
     c_top, ct, kf = row[5], row[6], row[7]
     be, bf, bg, b_top = row[8], row[9], row[10], row[11]
-    for jj in range(cand.shape[0]):
-        j = cand[jj]
+    u = qx - X
+    v = qy - Y
+    A = e * rx * rx + f * rx * ry + g * ry * ry
+    B = 2.0 * e * u * rx + f * (u * ry + v * rx) + 2.0 * g * v * ry
+    C = e * u * u + f * u * v + g * v * v
+    c_in, c_out, c_meets = _quadratic(-A, -B - rz, (c_top - h) - C - qz)
+    h_in, h_out, h_meets = _quadratic(-kf * A, -kf * B - rz, (ct - h) + kf * (c_top - ct - C) - qz)
+    # np.maximum / np.minimum propagate NaN
+    if c_in != c_in or h_in != h_in:
+        up_in = np.nan
+    else:
+        up_in = max(c_in, h_in)
+    if c_out != c_out or h_out != h_out:
+        up_out = np.nan
+    else:
+        up_out = min(c_out, h_out)
+    up_meets = c_meets and h_meets and up_in <= up_out
+    a_b = -(be * rx * rx + bf * rx * ry + bg * ry * ry)
+    b_b = -(2.0 * be * u * rx + bf * (u * ry + v * rx) + 2.0 * bg * v * ry) - rz
+    c_b = (b_top - h) - (be * u * u + bf * u * v + bg * v * v) - qz
+    b_in, b_out, b_meets = _quadratic(a_b, b_b, c_b)
+    beach_t = np.inf
+    if b_meets and b_in > 0.0 and not (up_meets and up_in < b_in and b_in <= up_out):
+        beach_t = b_in
+    upper_t = np.inf
+    if up_meets and up_in > 0.0 and not (b_meets and b_in < up_in and up_in <= b_out):
+        upper_t = up_in
+    if upper_t <= beach_t:
+        return upper_t, (part_hill if h_in > c_in else part_cliff)
+    return beach_t, part_beach
+
+
+@_jit
+def _pierce_all(q, r, table, h, part_beach, part_cliff, part_hill, best, which, part):
+    """Every ray against every island in turn, in one pass: bounding test, quadratics, nearest hit so far.
+
+    The reference's island-by-island passes (candidates, then their
+    quadratics) with the loops swapped: each ray keeps the same nearest hit,
+    first island among equals, with everything in registers.
+    """
+    for j in range(q.shape[0]):
         qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
         rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
-        u = qx - X
-        v = qy - Y
-        A = e * rx * rx + f * rx * ry + g * ry * ry
-        B = 2.0 * e * u * rx + f * (u * ry + v * rx) + 2.0 * g * v * ry
-        C = e * u * u + f * u * v + g * v * v
-        c_in, c_out, c_meets = _quadratic(-A, -B - rz, (c_top - h) - C - qz)
-        h_in, h_out, h_meets = _quadratic(-kf * A, -kf * B - rz, (ct - h) + kf * (c_top - ct - C) - qz)
-        # np.maximum / np.minimum propagate NaN
-        if c_in != c_in or h_in != h_in:
-            up_in = np.nan
-        else:
-            up_in = max(c_in, h_in)
-        if c_out != c_out or h_out != h_out:
-            up_out = np.nan
-        else:
-            up_out = min(c_out, h_out)
-        up_meets = c_meets and h_meets and up_in <= up_out
-        a_b = -(be * rx * rx + bf * rx * ry + bg * ry * ry)
-        b_b = -(2.0 * be * u * rx + bf * (u * ry + v * rx) + 2.0 * bg * v * ry) - rz
-        c_b = (b_top - h) - (be * u * u + bf * u * v + bg * v * v) - qz
-        b_in, b_out, b_meets = _quadratic(a_b, b_b, c_b)
-        beach_t = np.inf
-        if b_meets and b_in > 0.0 and not (up_meets and up_in < b_in and b_in <= up_out):
-            beach_t = b_in
-        upper_t = np.inf
-        if up_meets and up_in > 0.0 and not (b_meets and b_in < up_in and up_in <= b_out):
-            upper_t = up_in
-        if upper_t <= beach_t:
-            t = upper_t
-            p = part_hill if h_in > c_in else part_cliff
-        else:
-            t = beach_t
-            p = part_beach
-        if t < best[j]:
-            best[j] = t
-            which[j] = k
-            part[j] = p
+        for i in range(table.shape[0]):
+            row = table[i]
+            if _is_candidate(qx, qy, qz, rx, ry, rz, row[0], row[1], row[12], row[13]):
+                t, p = _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hill)
+                if t < best[j]:
+                    best[j] = t
+                    which[j] = i + 1
+                    part[j] = p
 
 
 @_jit
@@ -293,9 +295,10 @@ def _lowest_upward_origin(q, r):
 def pierce_islands(islands, eye_height: float, q, r):
     """:func:`sunset.vector.pierce.pierce_islands` compiled: (t, which, part) for rays (N, 3).
 
-    Island by island, as the reference: a branch-free pass of the bounding
-    test compresses the candidates, and a second pass solves the three
-    quadratics for them and keeps the nearest hit.
+    One compiled pass over the rays (:func:`_pierce_all`): each ray is
+    tested against every island's bounding circle in island order and, where
+    it may hit, the three quadratics are solved and the nearest hit kept,
+    exactly as the reference's island-by-island passes keep it.
     """
     q = np.ascontiguousarray(q, dtype=np.float64)
     r = np.ascontiguousarray(r, dtype=np.float64)
@@ -308,11 +311,7 @@ def pierce_islands(islands, eye_height: float, q, r):
     best.fill(np.inf)
     which.fill(-1)
     part.fill(0)
-    cand = np.empty(n, np.intp)
-    for i, row in enumerate(table):
-        m = _island_candidates(q, r, row[0], row[1], row[12], row[13], cand)
-        _pierce_island(q, r, cand[:m], row, float(eye_height), i + 1, PART_BEACH, PART_CLIFF, PART_HILL, best,
-                       which, part)
+    _pierce_all(q, r, table, float(eye_height), PART_BEACH, PART_CLIFF, PART_HILL, best, which, part)
     return best, which, part
 
 
@@ -354,7 +353,7 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     """
     h = scene.camera.eye_height
     flat, q, r = reflect_sea(frame, SEA)
-    r1 = r.copy()
+    r1 = r.copy() if frame.incidence is not None else None
     bounces = np.ones(len(q), np.uint8)
     idx = ray2 = None
     if reflections == 2:
@@ -368,9 +367,10 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
             scatter(idx, point, q)
             scatter(idx, ray2, r)
             scatter(idx, 2, bounces)
-    d = frame.direction.reshape(-1, 3)[flat].astype(np.float64)
-    n = frame.normal.reshape(-1, 3)[flat].astype(np.float64)
-    record_bounces(frame, flat, -np.sum(d * n, axis=-1), r1, idx, ray2)
+    if frame.incidence is not None:           # the RGB back end's record; the 8-bit tape needs none
+        d = frame.direction.reshape(-1, 3)[flat].astype(np.float64)
+        n = frame.normal.reshape(-1, 3)[flat].astype(np.float64)
+        record_bounces(frame, flat, -np.sum(d * n, axis=-1), r1, idx, ray2)
     np.abs(r[:, 2], out=r[:, 2])
     final = np.full(len(q), SKY, np.int8)
     part = np.zeros(len(q), np.int8)
