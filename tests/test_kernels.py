@@ -83,6 +83,22 @@ def test_scan_merge_is_the_depth_buffer(seed):
     np.testing.assert_array_equal(best_s, want_s)
 
 
+@pytest.mark.parametrize("order", [1, 2, 4])
+@pytest.mark.parametrize("t", [0.0, 1.3, 977.25])
+def test_sea_profile_is_the_numpy_one_bit_for_bit(order, t):
+    # Stokes orders 1 (no Horner loop), 2 (the default) and 4 (the longest), random scan lines
+    rng = np.random.default_rng(order)
+    sea = Sea([WaveTrain(0.5, 40.0, 260.0, 0.3, stokes_order=order), WaveTrain(0.12, 10.0, 235.0, 1.0),
+               WaveTrain(0.0, 7.0, 10.0, 0.0)])
+    s = rng.uniform(-0.4, 0.4, 7)
+    u = np.sort(rng.uniform(1e-4, 0.5, 300))[::-1]
+    want = hf.sea_profile.reference(sea, s, u, 2.0, t)
+    got = hf.sea_profile.compiled()(sea, s, u, 2.0, t)
+    assert got.dtype == want.dtype == np.float32 and got.shape == want.shape == (7, 300)
+    np.testing.assert_array_equal(got.view(np.uint32), want.view(np.uint32))
+    assert hf.sea_profile.compiled()(sea, s, u[:0], 2.0, t).shape == (7, 0)
+
+
 def test_interval_expansion_is_the_numpy_one():
     scene = Scene.default().with_size(150, 120)
     cam = scene.camera

@@ -263,6 +263,7 @@ def _sea_terms(sea, s, t):
     return out
 
 
+@twin("sunset.vector.heightfield_numba")
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
     """g(y_i) = (ζ-height of the sea at (s·y_i, y_i)) for scan lines s, samples u.
 

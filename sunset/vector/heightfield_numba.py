@@ -1,4 +1,6 @@
-"""Numba twin of :func:`sunset.vector.heightfield.sea_scan`: the scan line, the far tail and the depth buffer in one compiled loop.
+"""Numba twins of :func:`sunset.vector.heightfield.sea_scan` (the scan line, the far tail and the depth buffer in one
+compiled loop) and of :func:`sunset.vector.heightfield.sea_profile` (each train's phase, and Horner's rule summed into
+the profile, in one pass each).
 
 :func:`scan_columns` is the paper's scan-line loop
 (:func:`sunset.vector.heightfield.scan_line_reference`) with the arithmetic of
@@ -7,7 +9,9 @@ in the profile's precision, same interpolation), over many scan lines of
 ragged length; :func:`scan_merge` adds the sea's far tail and the
 per-scan-line depth buffer. The same operations in the same order as the
 NumPy reference, one element at a time: the frames are identical (tests).
-Chosen by :mod:`sunset.kernels`.
+:func:`sea_profile` leaves the cosines to NumPy: its float32 ``cos`` is
+NumPy's own vectorised one, which a compiled loop (the C library's
+``cosf``) does not reproduce bit for bit. Chosen by :mod:`sunset.kernels`.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ import numpy as np
 
 from ..constants import SEA
 from ..kernels import jit as _jit
+from .heightfield import _F32, _chebyshev_power, _sea_terms
 
 
 @_jit
@@ -182,3 +187,63 @@ def sea_scan(u, g, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf)
     """:func:`sunset.vector.heightfield.sea_scan`: the scan line, the far tail and the depth buffer in one pass."""
     return scan_merge(u, g, np.full(len(g), len(u)), zeta0, dzeta, n_pixels, best_u, best_surf, SEA, tail_u_far=u[-1],
                       ties=True)
+
+
+@_jit
+def _phase(b, y, c, phase):
+    """phase[i, j] = b[i] y[j] + c, in float32 (the reference's multiply, then add)."""
+    for i in range(phase.shape[0]):
+        bi = b[i]
+        for j in range(phase.shape[1]):
+            phase[i, j] = bi * y[j] + c
+
+
+@_jit
+def _horner_into(cos_theta, p, elev, first):
+    """elev (+)= Σ_(j>=1) p_j cos^j θ by Horner's rule, float32, as the reference's passes.
+
+    ``first``: the first train writes the profile instead of adding to it
+    (0 + x is not x when x is −0).
+    """
+    n = p.shape[0]
+    for i in range(elev.shape[0]):
+        for j in range(elev.shape[1]):
+            x = cos_theta[i, j]
+            acc = x * p[n - 1]
+            for k in range(n - 2, 0, -1):
+                acc = acc + p[k]
+                acc = acc * x
+            if first:
+                elev[i, j] = acc
+            else:
+                elev[i, j] = elev[i, j] + acc
+
+
+@_jit
+def _finish_profile(elev, const, u32):
+    """g = (elevation + (Σ p_0 − h))·u, float32."""
+    for i in range(elev.shape[0]):
+        for j in range(elev.shape[1]):
+            elev[i, j] = (elev[i, j] + const) * u32[j]
+
+
+def sea_profile(sea, s, u, h: float, t: float = 0.0):
+    """:func:`sunset.vector.heightfield.sea_profile` compiled, but for NumPy's cosines: the same float32 bits."""
+    s = np.asarray(s, dtype=np.float64)
+    u = np.asarray(u, dtype=np.float64)
+    y = (1.0 / u).astype(_F32)
+    elev = np.zeros((s.size, u.size), dtype=_F32)
+    if u.size == 0:
+        return elev
+    phase = np.empty_like(elev)
+    const = 0.0
+    first = True
+    for _l, _m, b, c, amps in _sea_terms(sea, s, t):
+        _phase(np.ascontiguousarray(b, dtype=_F32), y, _F32(c), phase)
+        np.cos(phase, out=phase)
+        p = _chebyshev_power(amps)
+        const += p[0]
+        _horner_into(phase, p.astype(_F32), elev, first)
+        first = False
+    _finish_profile(elev, _F32(const - h), u.astype(_F32))
+    return elev
