@@ -263,6 +263,13 @@ def _sea_terms(sea, s, t):
     return out
 
 
+def _profile_arrays(s, u):
+    """The profile's inputs as float64 arrays, y = 1/u in float32, and the profile (C, N) float32, zeros."""
+    s = np.asarray(s, dtype=np.float64)
+    u = np.asarray(u, dtype=np.float64)
+    return s, u, (1.0 / u).astype(_F32), np.zeros((s.size, u.size), dtype=_F32)
+
+
 @twin("sunset.vector.heightfield_numba")
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
     """g(y_i) = (ζ-height of the sea at (s·y_i, y_i)) for scan lines s, samples u.
@@ -289,10 +296,7 @@ def sea_profile(sea, s, u, h: float, t: float = 0.0):
     ndarray (C, N) float32
         g = (elevation − h)·u.
     """
-    s = np.asarray(s, dtype=np.float64)
-    u = np.asarray(u, dtype=np.float64)
-    y = (1.0 / u).astype(_F32)
-    elev = np.zeros((s.size, u.size), dtype=_F32)
+    s, u, y, elev = _profile_arrays(s, u)
     if u.size == 0:
         return elev
     phase = np.empty_like(elev)

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..constants import SEA
 from ..kernels import jit as _jit
-from .heightfield import _F32, _chebyshev_power, _sea_terms
+from .heightfield import _F32, _chebyshev_power, _profile_arrays, _sea_terms
 
 
 @_jit
@@ -229,10 +229,7 @@ def _finish_profile(elev, const, u32):
 
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
     """:func:`sunset.vector.heightfield.sea_profile` compiled, but for NumPy's cosines: the same float32 bits."""
-    s = np.asarray(s, dtype=np.float64)
-    u = np.asarray(u, dtype=np.float64)
-    y = (1.0 / u).astype(_F32)
-    elev = np.zeros((s.size, u.size), dtype=_F32)
+    s, u, y, elev = _profile_arrays(s, u)
     if u.size == 0:
         return elev
     phase = np.empty_like(elev)
