@@ -400,10 +400,10 @@ def _cmd_scene(args) -> None:
 
 
 def _cmd_export(args) -> None:
-    from .io import check_writable, write_bytes
+    from .io import write_bytes
     from .model.pov import pov_scene
 
-    check_writable(args.output, (".pov",))
+    _outputs({"-o": args.output}, {"-o": (".pov",)}, {"the scene": _scene_path(args.scene)})
     scene = _load_scene(args.scene)
     if args.size:
         scene = scene.with_size(*args.size)

@@ -364,6 +364,26 @@ MAX_SEA_SAMPLES_PER_PIXEL = 256
 FRAME_BYTES_PER_PIXEL = 320
 MAX_FRAME_BYTES = 6 << 30
 
+#: The most samples one frame may take in all (sea, islands at their budget,
+#: cloud samples and the pixels they cover, post tests: sunset.vector.budget);
+#: about 0.05–0.2 µs each on two cores, so a frame at the bound takes minutes,
+#: not hours. The cloud layer's memory per sample and per (sample, pixel) pair,
+#: bytes (measured at 6–70 bytes per bounded pair; tests/test_hostile_input.py
+#: checks the bound).
+MAX_FRAME_SAMPLES = 2**31
+CLOUD_BYTES_PER_SAMPLE = 256
+CLOUD_BYTES_PER_PAIR = 64
+#: The cloud layer is scanned in strips of scan lines of at most this many
+#: samples and bounded pairs (one scan line at least): 256 MiB at most.
+CLOUD_STRIP_PAIRS = 1 << 22
+
+#: The RGB back end (sunset/light, ``--shading rgb``): peak bytes per traced
+#: ray (samples × pixels; the geometry kept, shaded, filtered and encoded) and
+#: the bytes of one hour's light (its sky grid) that do not grow with the
+#: picture; sunset.bench.memory.measure_rgb_bytes measures both.
+RGB_BYTES_PER_RAY = 400
+RGB_LIGHT_BYTES = 384 << 20
+
 #: Most pixels in one frame (width × height): MAX_FRAME_BYTES / FRAME_BYTES_PER_PIXEL,
 #: about 20 megapixels (4,480 × 4,480; 19 of the paper's 1020 × 1023 frames).
 MAX_PIXELS = MAX_FRAME_BYTES // FRAME_BYTES_PER_PIXEL

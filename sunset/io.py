@@ -191,12 +191,43 @@ def remove_stale_temporaries(folder: str | os.PathLike) -> list[Path]:
             continue
         try:
             st = entry.stat(follow_symlinks=False)
-            if stat.S_ISREG(st.st_mode) and st.st_uid == os.getuid() and now - st.st_mtime > _STALE_SECONDS:
+            if st.st_uid != os.getuid() or now - st.st_mtime <= _STALE_SECONDS:
+                continue
+            if stat.S_ISREG(st.st_mode):
                 os.unlink(entry.path)
+                removed.append(Path(entry.path))
+            elif stat.S_ISDIR(st.st_mode):          # a folder of outputs staged together (sunset figures)
+                import shutil
+
+                shutil.rmtree(entry.path)
                 removed.append(Path(entry.path))
         except OSError:
             continue
     return removed
+
+
+def check_stop() -> None:
+    """Raise the stop signal's exception if one was noted (:func:`note_stop`): no output lands after it."""
+    _check_stop()
+
+
+def land_in(files, folder: str | os.PathLike) -> list[Path]:
+    """Move complete ``files`` into ``folder`` under their own names (through symbolic links), in order.
+
+    The files are flushed to disk first; each rename replaces its target at
+    once. Used to land a staged set of outputs together (:func:`sunset.figures.make_figures`).
+    """
+    targets = [_target(Path(folder) / Path(f).name) for f in files]
+    for f in files:
+        _fsync(f)
+    done = 0
+    try:
+        for f, target in zip(files, targets):
+            os.replace(f, target)
+            done += 1
+    except OSError as exc:
+        raise _cannot(targets[done], exc) from None
+    return targets
 
 
 def _fsync(path) -> None:

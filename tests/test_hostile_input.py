@@ -716,3 +716,18 @@ def test_fuzzed_scene_files_exit_0_or_2(tmp_path_factory, text):
         assert predict_work(scene).sea_samples_per_pixel <= MAX_SEA_SAMPLES_PER_PIXEL
     assert leftovers(folder) == []
     assert time.perf_counter() - start < 60
+
+
+def test_export_refuses_to_overwrite_its_scene(capsys, tmp_path):
+    """2 (a sibling): `export pov x.pov -o x.pov`, also through a symbolic link, would replace the scene it reads."""
+    scene = tmp_path / "scene.pov"                      # a scene file may have any name
+    scene.write_text(Scene.default().to_toml())
+    before = scene.read_bytes()
+    code, _, err = run(capsys, "export", "pov", scene, "-o", scene)
+    one_line_error(code, err, "the scene", "same file")
+    (tmp_path / "link.pov").symlink_to(scene)
+    code, _, err = run(capsys, "export", "pov", scene, "-o", tmp_path / "link.pov")
+    one_line_error(code, err, "same file")
+    assert scene.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.pov", "scene.pov"]
+    assert run(capsys, "export", "pov", scene, "-o", tmp_path / "out.pov")[0] == 0

@@ -44,8 +44,11 @@ def parse_only(text: str | None) -> list[str]:
 
 
 def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 32,
-                progress: bool = True, workers: int | None = None) -> list[Path]:
-    """Make one figure of ``scene`` (at its camera's size) into ``out``; returns the files written."""
+                progress: bool = True, workers: int | None = None, reuse_from: Path | None = None) -> list[Path]:
+    """Make one figure of ``scene`` (at its camera's size) into ``out``; returns the files written.
+
+    ``reuse_from``: another folder where Figure 7 may find Figure 6's tape.
+    """
     out = Path(out)
     if name == "1":
         from .fig1 import figure1
@@ -58,7 +61,7 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
         return [figure3(out / "fig3.png", scene=scene)]
     if name in ("4", "5", "6", "7"):
         from .paper import paper_figure
-        return [paper_figure(name, out, scene, seed=seed)]
+        return [paper_figure(name, out, scene, seed=seed, reuse_from=reuse_from)]
     if name == "diagnostic":
         from .diagnostic import diagnostic
         return [diagnostic(out / "diagnostic.png", scene=scene)]
@@ -106,11 +109,44 @@ def make_figures(out: str | Path = "figures", only: str | None = None, size: tup
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise SunsetError(f"{out}: cannot create the output folder ({exc.strerror})") from None
-    written = []
-    for name in names:
-        start = time.perf_counter()
-        files = make_figure(name, out, scene, seed=seed, progress=progress, film_frames=film_frames,
-                            workers=workers)
-        written += files
-        log(f"{FIGURES[name][1]}: {', '.join(str(f) for f in files)} ({time.perf_counter() - start:.1f} s)")
-    return written
+    return _make_all(names, out, scene, seed=seed, progress=progress, log=log, film_frames=film_frames,
+                     workers=workers)
+
+
+def _make_all(names, out: Path, scene, log=print, **kw) -> list[Path]:
+    """Make the figures in a hidden folder inside ``out``; move them into ``out`` together when all are made.
+
+    A figure that fails (or Ctrl-C) leaves ``out`` as it was: no new file and
+    no replaced one; the hidden folder is removed in every case (one that a
+    killed process left is removed by the next run, :func:`sunset.io.remove_stale_temporaries`).
+    Figure 7 finds Figure 6's tape in the hidden folder when both are made,
+    else in ``out`` from an earlier run.
+    """
+    import os
+    import shutil
+    import tempfile
+
+    from ..io import check_stop, check_writable, land_in, remove_stale_temporaries
+
+    remove_stale_temporaries(out)
+    try:
+        stage = Path(tempfile.mkdtemp(prefix=f".sunset-{os.getpid()}-", suffix=".part", dir=out))
+    except OSError as exc:
+        raise SunsetError(f"{out}: cannot write figures there ({exc.strerror or exc})") from None
+    try:
+        written = []
+        for name in names:
+            start = time.perf_counter()
+            files = make_figure(name, stage, scene, reuse_from=out, **kw)
+            written += [f for f in files if f not in written]
+            log(f"{FIGURES[name][1]}: {', '.join(str(out / f.name) for f in files)} "
+                f"({time.perf_counter() - start:.1f} s)")
+        extra = [p for p in sorted(stage.iterdir()) if p not in written]       # fig6.tape and the like
+        targets = [out / p.name for p in written + extra]
+        for target in targets:                # every target replaceable before the first one is replaced
+            check_writable(target)
+        check_stop()
+        land_in(written + extra, out)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+    return [out / p.name for p in written]

@@ -75,24 +75,31 @@ def expose_png(tape: Tape, hours: float, path: Path, frame: int = 0, extra: dict
 
 
 def paper_figure(number: str, out: Path, scene: Scene, seed: int = 0,
-                 t: float = 0.0) -> Path:
+                 t: float = 0.0, reuse_from: Path | None = None) -> Path:
     """Write figure ``number`` (4–7) as ``out/figN.png``.
 
     Figure 6 also leaves ``fig6.tape``.
 
-    Figure 7 reads ``fig6.tape`` when it is there and matches the scene, and
-    renders it once otherwise: it never re-renders what Figure 6 computed.
+    Figure 7 reads ``fig6.tape`` when it is there (in ``out``, else in
+    ``reuse_from``) and matches the scene, and renders it once otherwise: it
+    never re-renders what Figure 6 computed.
     """
     spec = PAPER_FIGURES[number]
     out = Path(out)
     source = spec.reuses or number
     tape_path = out / f"fig{source}.tape"
     tape = None
-    if spec.reuses and tape_path.is_file():
-        cached = read_tape(tape_path)
+    places = [tape_path] if spec.reuses else []
+    if spec.reuses and reuse_from is not None:
+        places.append(Path(reuse_from) / tape_path.name)
+    for place in places:
+        if not place.is_file():
+            continue
+        cached = read_tape(place)
         same = cached.scene == scene and cached.seed == seed
         if same and float(cached.times[0]) == t:
             tape = cached
+            break
     if tape is None:
         src = PAPER_FIGURES[source]
         source_scene = scene.still() if src.still else scene

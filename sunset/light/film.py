@@ -52,6 +52,9 @@ def trace_cycle(scene, times, reflections: int = 2, samples: int = 1, progress: 
     """The geometries of the frames at ``times`` (one wave cycle), each traced once."""
     require_int_range("reflections", reflections, 0, 2)
     check_samples(samples)
+    from .budget import check_rgb_work
+
+    check_rgb_work(scene, samples, frames=len(times))
     cam = scene.camera
     need = len(times) * cam.width * cam.height * samples * GEOMETRY_BYTES_PER_RAY
     if need > MAX_GEOMETRY_BYTES:

@@ -50,8 +50,11 @@ def trace_geometry(scene, t: float = 0.0, reflections: int = 2, samples: int = 1
     """The vector stage at ``samples`` rays per pixel, kept as a :class:`Geometry` (of the k× finer raster)."""
     from ..vector.render import render
 
+    from .budget import check_rgb_work
+
     k = check_samples(samples)
     require_finite("t", t)
+    check_rgb_work(scene, samples)                    # before the picture is supersampled (sunset.light.budget)
     return Geometry.from_frame(render(supersampled(scene, k) if k > 1 else scene, float(t), reflections))
 
 

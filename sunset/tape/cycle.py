@@ -111,6 +111,11 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     (:func:`sunset.vector.direct.island_pass`) is computed once, here, and
     handed to every worker when it starts, instead of once per frame.
 
+    Each worker holds one frame at a time, so the workers are at most
+    MAX_FRAME_BYTES over the frame's predicted bytes
+    (:func:`sunset.vector.budget.predict_work`): a large picture is coded by
+    fewer processes rather than by more memory than the budget.
+
     Parameters
     ----------
     on_frame : callable, optional
@@ -129,6 +134,11 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     cam = scene.camera
     out = np.empty((len(times), cam.height, cam.width), np.uint8)
     n = frame_workers(workers, len(times))
+    if n > 1:                                # every worker holds a frame: together they keep to the budget
+        from ..constants import MAX_FRAME_BYTES
+        from ..vector.budget import predict_work
+
+        n = max(1, min(n, MAX_FRAME_BYTES // max(predict_work(scene).bytes, 1)))
 
     def put(i, codes):
         out[i] = codes

@@ -14,9 +14,23 @@ for millions of samples per pixel (hours of work and gigabytes of memory for
 a 64 × 64 picture); :func:`check_work` refuses it, naming the fields to
 change, before any work is done. Each island adds at most
 ``ISLAND_SAMPLE_BUDGET · max(n, H)`` samples per scan line (the refinement is
-lowered to respect it). Memory is :data:`FRAME_BYTES_PER_PIXEL` per pixel
-plus the sea's samples of one strip of scan lines
-(:data:`SCANLINE_CHUNK_ELEMENTS`, or one scan line's n if larger);
+lowered to respect it). A cloud layer (:mod:`sunset.vector.clouds`) takes, per cell, its
+lattice's samples and the (sample, pixel) pairs they cover: the samples are
+counted exactly and the pairs bounded (:func:`sunset.vector.clouds.cell_work`)
+without evaluating a cloud; a cloud far taller than its height above the eye
+covers hundreds of pixels with every sample. Each post tests at most every
+pixel twice (its box of direct rays, then the sea's reflected rays).
+
+The frame's predicted work is the sum of these counts; :func:`check_work`
+refuses a frame whose work exceeds :data:`~sunset.constants.MAX_FRAME_SAMPLES`
+(naming the islands, the clouds or the window), as it refuses a window whose
+sea takes more than :data:`~sunset.constants.MAX_SEA_SAMPLES_PER_PIXEL`.
+Memory is :data:`FRAME_BYTES_PER_PIXEL` per pixel plus the sea's samples of
+one strip of scan lines (:data:`SCANLINE_CHUNK_ELEMENTS`, or one scan line's
+n if larger) plus the largest strip of a cloud cell's samples and pairs (a strip of scan
+lines holds at most :data:`~sunset.constants.CLOUD_STRIP_PAIRS`)
+(:data:`~sunset.constants.CLOUD_BYTES_PER_SAMPLE`,
+:data:`~sunset.constants.CLOUD_BYTES_PER_PAIR`);
 :func:`sunset.bench.memory.measure_bytes_per_pixel` measures the first term.
 """
 
@@ -25,8 +39,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..constants import (FRAME_BYTES_PER_PIXEL, ISLAND_SAMPLE_BUDGET, MAX_FRAME_BYTES, MAX_SEA_SAMPLES_PER_PIXEL,
-                         SCANLINE_CHUNK_ELEMENTS)
+from ..constants import (CLOUD_BYTES_PER_PAIR, CLOUD_BYTES_PER_SAMPLE, FRAME_BYTES_PER_PIXEL, ISLAND_SAMPLE_BUDGET,
+                         MAX_FRAME_BYTES, MAX_FRAME_SAMPLES, MAX_SEA_SAMPLES_PER_PIXEL, SCANLINE_CHUNK_ELEMENTS)
 from ..errors import SunsetError
 from .heightfield import sampling
 
@@ -49,8 +63,14 @@ class Work:
         n × width, the sea's samples in the frame (exact).
     island_samples_bound : int
         The most island samples the frame can take (every island at its budget).
+    cloud_samples : int
+        The cloud layer's samples, all cells (exact).
+    cloud_pairs_bound : int
+        The most (sample, pixel) pairs the cloud layer's samples cover.
+    post_tests_bound : int
+        The most ray–post tests (2 × posts × pixels).
     bytes : int
-        The memory bound: pixels × FRAME_BYTES_PER_PIXEL + one strip of sea samples.
+        The memory bound: pixels × FRAME_BYTES_PER_PIXEL + one strip of sea samples + the largest cloud cell.
     """
 
     width: int
@@ -59,11 +79,41 @@ class Work:
     sea_samples: int
     island_samples_bound: int
     bytes: int
+    cloud_samples: int = 0
+    cloud_pairs_bound: int = 0
+    post_tests_bound: int = 0
 
     @property
     def sea_samples_per_pixel(self) -> float:
         """n / height: the sea's samples per pixel."""
         return self.sea_samples_per_line / self.height
+
+    @property
+    def samples(self) -> int:
+        """The frame's predicted work: sea and island samples, cloud samples and pairs, post tests (a bound)."""
+        return (self.sea_samples + self.island_samples_bound + self.cloud_samples + self.cloud_pairs_bound
+                + self.post_tests_bound)
+
+
+def _cloud_work(scene) -> tuple[int, int, int]:
+    """(samples, pairs bound, bytes of the largest cell) of the scene's cloud layer."""
+    if scene.clouds is None:
+        return 0, 0, 0
+    from .clouds import cloud_strips, column_work
+
+    cam = scene.camera
+    dz = cam.pixel_pitch[1]
+    zeta0 = cam.zy_min + 0.5 * dz
+    level_h = scene.clouds.level - cam.eye_height
+    s = cam.s_centres()
+    samples = pairs = biggest = 0
+    for cell in scene.clouds.cells:
+        count, bound = column_work(cell, level_h, s, zeta0, dz, cam.height, cam.sigma)
+        samples, pairs = samples + int(count.sum()), pairs + int(bound.sum())
+        for c0, c1 in cloud_strips(count, bound):           # the strips cloud_scan takes
+            biggest = max(biggest, int(count[c0:c1].sum()) * CLOUD_BYTES_PER_SAMPLE
+                          + int(bound[c0:c1].sum()) * CLOUD_BYTES_PER_PAIR)
+    return samples, pairs, biggest
 
 
 def predict_work(scene) -> Work:
@@ -73,15 +123,18 @@ def predict_work(scene) -> Work:
     n = sampling(cam, scene.sea.max_elevation).n
     islands = len(scene.islands) * ISLAND_SAMPLE_BUDGET * max(n, H) * W
     strip = max(SCANLINE_CHUNK_ELEMENTS, n) * SAMPLE_BYTES
+    cloud_samples, cloud_pairs, cloud_bytes = _cloud_work(scene)
     return Work(width=W, height=H, sea_samples_per_line=n, sea_samples=n * W, island_samples_bound=islands,
-                bytes=W * H * FRAME_BYTES_PER_PIXEL + strip)
+                bytes=W * H * FRAME_BYTES_PER_PIXEL + strip + cloud_bytes, cloud_samples=cloud_samples,
+                cloud_pairs_bound=cloud_pairs, post_tests_bound=2 * len(scene.posts) * W * H)
 
 
 def check_work(scene) -> Work:
     """Raise :class:`SunsetError` when a frame of ``scene`` would exceed the budgets; else its :class:`Work`.
 
-    The sea may take at most MAX_SEA_SAMPLES_PER_PIXEL samples per pixel, and
-    the frame at most MAX_FRAME_BYTES of memory.
+    The sea may take at most MAX_SEA_SAMPLES_PER_PIXEL samples per pixel, the
+    frame at most MAX_FRAME_SAMPLES samples in all (sea, islands, clouds,
+    posts) and at most MAX_FRAME_BYTES of memory.
     """
     work = predict_work(scene)
     cam = scene.camera
@@ -91,9 +144,21 @@ def check_work(scene) -> Work:
             f"{MAX_SEA_SAMPLES_PER_PIXEL}): zy_min = {cam.zy_min:g} .. zy_max = {cam.zy_max:g} is a sliver "
             f"{abs(cam.zy_min) / (cam.zy_max - cam.zy_min):.3g} times its own height below the horizon; "
             f"make the window taller or raise sigma")
+    if work.samples > MAX_FRAME_SAMPLES:
+        size = f"{work.width}x{work.height}"
+        terms = {"islands": work.island_samples_bound, "clouds": work.cloud_samples + work.cloud_pairs_bound,
+                 "posts": work.post_tests_bound, "camera": work.sea_samples}
+        biggest = max(terms, key=terms.get)
+        what, fix = {
+            "islands": (f"{len(scene.islands)} islands", "use fewer islands or a smaller picture"),
+            "clouds": ("the cloud layer", "use fewer or thinner cells (top, bottom), a higher level or a smaller "
+                                          "picture"),
+            "posts": (f"{len(scene.posts)} posts", "use fewer posts or a smaller picture"),
+            "camera": ("the sea", "use a smaller picture, a taller window or a larger sigma")}[biggest]
+        what = f"{biggest}: {what} at {size} may take up to {work.samples:.3g} samples"
+        raise SunsetError(f"{what} per frame (at most {MAX_FRAME_SAMPLES:.3g}): {fix}")
     if work.bytes > MAX_FRAME_BYTES:
         raise SunsetError(f"camera: a {work.width}x{work.height} frame needs about "
                           f"{math.ceil(work.bytes / 2**20):,} MiB (at most {MAX_FRAME_BYTES // 2**20:,} MiB): "
                           f"use a smaller picture")
     return work
-

@@ -44,10 +44,74 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..constants import CLOUD, SEA, SKY
+from ..constants import CLOUD, CLOUD_STRIP_PAIRS, SEA, SKY
 from .frame import Frame
 
-__all__ = ["cloud_scan", "cell_scan", "add_clouds", "reflected_clouds"]
+__all__ = ["cloud_scan", "cell_scan", "cell_lattice", "column_work", "cell_work", "cloud_strips", "add_clouds", "reflected_clouds"]
+
+
+def cell_lattice(cell, level_h: float, s, zeta0: float, dzeta: float, n_pixels: int, sigma: float):
+    """The samples of one cloud cell on the scan lines ``s`` (the arguments of :func:`cell_scan`).
+
+    Returns (ok, u_near, u_far, du, j_hi, j_lo, count): which scan lines
+    cross the cell, the ends of their chords in u = 1/y, the lattice step, the
+    first and last inner lattice indices and the number of samples of each
+    scan line (the chord's two ends and the lattice points between them, near
+    to far: u_near, j_hi·du, ..., j_lo·du, u_far).
+    """
+    y0, y1 = cell.chord(s)
+    du = sigma * dzeta / level_h
+    zeta_top = zeta0 + (int(n_pixels) - 1) * dzeta
+    low = level_h - cell.bottom * cell.swell                      # the lowest the cell's base can project from
+    u_top = zeta_top / low + du if zeta_top > 0 else 0.0           # nearer than this, the base is above the picture
+    ok = np.isfinite(y1)
+    u_far = np.where(ok, 1.0 / np.where(ok, y1, 1.0), 0.0)
+    with np.errstate(divide="ignore"):
+        u_near = np.where(ok & (y0 > 0), 1.0 / np.where(y0 > 0, y0, 1.0), np.inf)
+    u_near = np.minimum(u_near, u_top)
+    ok &= u_near > u_far
+    j_hi = np.where(ok, np.ceil(u_near / du) - 1, 0).astype(np.int64)
+    j_lo = np.where(ok, np.floor(u_far / du) + 1, 1).astype(np.int64)
+    inner = np.maximum(j_hi - j_lo + 1, 0)
+    count = np.where(ok, inner + 2, 0)
+    return ok, u_near, u_far, du, j_hi, j_lo, count
+
+
+def column_work(cell, level_h: float, s, zeta0: float, dzeta: float, n_pixels: int, sigma: float):
+    """Per scan line of ``s``: (samples, a bound on the (sample, pixel) pairs) of :func:`cell_scan`, not scanning.
+
+    A sample at u covers the pixels strictly between its bottom's and its
+    top's projections: at most (T + B)·u/Δζ + 1 of them, with T + B at most
+    (top + bottom) times the billows' swell, and never more than the scan
+    line's ``n_pixels``. Summed over a scan line's samples (the chord's ends
+    and the lattice j·du between them) that is exact arithmetic, no profile
+    is evaluated.
+    """
+    s = np.asarray(s, dtype=float)
+    ok, u_near, u_far, du, j_hi, j_lo, count = cell_lattice(cell, level_h, s, zeta0, dzeta, n_pixels, sigma)
+    inner = np.maximum(count - 2, 0).astype(np.float64)
+    sum_u = np.where(ok, u_near + u_far + du * (j_lo + j_hi) * inner / 2.0, 0.0)
+    linear = (cell.top + cell.bottom) * cell.swell * sum_u / dzeta + count
+    pairs = np.ceil(np.where(ok, np.minimum(count * float(n_pixels), linear), 0.0))
+    return count, pairs
+
+
+def cell_work(cell, level_h: float, s, zeta0: float, dzeta: float, n_pixels: int, sigma: float) -> tuple[int, int]:
+    """(samples, a bound on the pairs) of :func:`cell_scan` over all the scan lines ``s`` (:func:`column_work`)."""
+    count, pairs = column_work(cell, level_h, s, zeta0, dzeta, n_pixels, sigma)
+    return int(count.sum()), int(pairs.sum())
+
+
+def cloud_strips(count, pairs) -> list[tuple[int, int]]:
+    """Cut the scan lines into runs whose samples and bounded pairs stay within CLOUD_STRIP_PAIRS (one line at least)."""
+    cost = np.cumsum(np.asarray(count, np.float64) + np.asarray(pairs, np.float64))
+    out, c0 = [], 0
+    while c0 < len(cost):
+        base = cost[c0 - 1] if c0 else 0.0
+        c1 = max(c0 + 1, int(np.searchsorted(cost, base + CLOUD_STRIP_PAIRS, side="right")))
+        out.append((c0, c1))
+        c0 = c1
+    return out
 
 
 def cell_scan(cell, level_h: float, s, zeta0: float, dzeta: float, n_pixels: int, sigma: float) -> np.ndarray:
@@ -72,25 +136,9 @@ def cell_scan(cell, level_h: float, s, zeta0: float, dzeta: float, n_pixels: int
     s = np.asarray(s, dtype=float)
     C, K = len(s), int(n_pixels)
     out = np.zeros((C, K))
-    y0, y1 = cell.chord(s)
-    du = sigma * dzeta / level_h
-    zeta_top = zeta0 + (K - 1) * dzeta
-    low = level_h - cell.bottom * cell.swell                      # the lowest the cell's base can project from
-    u_top = zeta_top / low + du if zeta_top > 0 else 0.0           # nearer than this, the base is above the picture
-    ok = np.isfinite(y1)
-    u_far = np.where(ok, 1.0 / np.where(ok, y1, 1.0), 0.0)
-    with np.errstate(divide="ignore"):
-        u_near = np.where(ok & (y0 > 0), 1.0 / np.where(y0 > 0, y0, 1.0), np.inf)
-    u_near = np.minimum(u_near, u_top)
-    ok &= u_near > u_far
+    ok, u_near, u_far, du, j_hi, _, count = cell_lattice(cell, level_h, s, zeta0, dzeta, K, sigma)
     if not ok.any():
         return out
-    # the lattice between the chord's ends, near to far:
-    # u_near, j1·du, ..., j0·du, u_far
-    j_hi = np.where(ok, np.ceil(u_near / du) - 1, 0).astype(np.int64)
-    j_lo = np.where(ok, np.floor(u_far / du) + 1, 1).astype(np.int64)
-    inner = np.maximum(j_hi - j_lo + 1, 0)
-    count = np.where(ok, inner + 2, 0)
     col = np.repeat(np.arange(C), count)
     start = np.cumsum(count) - count
     pos = np.arange(col.size) - start[col]
@@ -132,8 +180,12 @@ def cloud_scan(scene) -> np.ndarray:
     level_h = clouds.level - cam.eye_height
     s = cam.s_centres()
     best = np.zeros((cam.width, cam.height))
-    for cell in clouds.cells:
-        np.maximum(best, cell_scan(cell, level_h, s, zeta0, dz, cam.height, cam.sigma), out=best)
+    for cell in clouds.cells:           # in strips of scan lines: the memory stays bounded (sunset.vector.budget)
+        count, pairs = column_work(cell, level_h, s, zeta0, dz, cam.height, cam.sigma)
+        for c0, c1 in cloud_strips(count, pairs):
+            if count[c0:c1].any():
+                np.maximum(best[c0:c1], cell_scan(cell, level_h, s[c0:c1], zeta0, dz, cam.height, cam.sigma),
+                           out=best[c0:c1])
     return best
 
 

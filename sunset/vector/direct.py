@@ -73,6 +73,7 @@ def island_pass(scene, refine_islands: bool = True) -> IslandPass:
     each island is sampled, scan-converted and merged, nearest first wins
     (:func:`sunset.vector.island_samples.island_scan`), in island order.
     """
+    check_work(scene)                    # a wave cycle computes this pass first: the budget comes before it
     cam = scene.camera
     W, H = cam.width, cam.height
     d = scene.sea.max_elevation
