@@ -58,8 +58,9 @@ def trace_cycle(scene, times, reflections: int = 2, samples: int = 1, progress: 
     cam = scene.camera
     need = len(times) * cam.width * cam.height * samples * GEOMETRY_BYTES_PER_RAY
     if need > MAX_GEOMETRY_BYTES:
-        raise SunsetError(f"frames: {len(times)} frames at {cam.width}x{cam.height} with {samples} samples would "
-                          f"keep up to {need / 2**30:.1f} GiB of geometry (at most "
+        per = f"{samples} sample{'s' * (samples != 1)} per pixel"
+        raise SunsetError(f"frames: {len(times)} frames at {cam.width}x{cam.height}, {per}, would keep up to "
+                          f"{need / 2**30:.1f} GiB of geometry (at most "
                           f"{MAX_GEOMETRY_BYTES / 2**30:g} GiB): use fewer frames, fewer samples or a smaller picture")
     out = []
     with _bar(len(times), "tracing the wave cycle", progress) as bar:
