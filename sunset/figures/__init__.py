@@ -88,6 +88,34 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
     raise SunsetError(f"unknown figure {name!r}")  # pragma: no cover - parse_only guards
 
 
+def check_budgets(names, scene) -> None:
+    """Refuse, before any figure is made, a size at which a figure's frame exceeds its budget, naming the figure.
+
+    The budgets are :mod:`sunset.vector.budget`'s and :mod:`sunset.light.budget`'s.
+    """
+    from ..light.budget import check_rgb_work
+    from ..vector.budget import check_work
+
+    checks = {"rgb": lambda: check_rgb_work(scene, _rgb_samples()), "quantisation": lambda: check_rgb_work(scene, 1)}
+    if "clouds" in names:
+        from .future import cloudy
+
+        checks["clouds"] = lambda: check_rgb_work(cloudy(scene), 1)
+    for name in names:
+        try:
+            if name in checks or name in ("4", "5", "6", "7", "diagnostic", "reflections", "film"):
+                checks.get(name, lambda: check_work(scene))()
+        except SunsetError as exc:
+            cam = scene.camera
+            raise SunsetError(f"figure {name} at {cam.width}x{cam.height}: {exc}") from None
+
+
+def _rgb_samples() -> int:
+    from .rgb import RGB_SAMPLES
+
+    return RGB_SAMPLES
+
+
 def make_figures(out: str | Path = "figures", only: str | None = None, size: tuple[int, int] | None = None,
                  seed: int = 0, scene=None, progress: bool = True, log=print,
                  film_frames: int = 32, workers: int | None = None) -> list[Path]:
@@ -105,12 +133,22 @@ def make_figures(out: str | Path = "figures", only: str | None = None, size: tup
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise SunsetError(f"{out}: cannot write figures there: it is a file, not a folder")
+    check_budgets(names, scene)
+    created = [p for p in (out, *out.parents) if not p.exists()]       # deepest first
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise SunsetError(f"{out}: cannot create the output folder ({exc.strerror})") from None
-    return _make_all(names, out, scene, seed=seed, progress=progress, log=log, film_frames=film_frames,
-                     workers=workers)
+    try:
+        return _make_all(names, out, scene, seed=seed, progress=progress, log=log, film_frames=film_frames,
+                         workers=workers)
+    except BaseException:
+        for folder in created:               # a failed run leaves no new folder either
+            try:
+                folder.rmdir()
+            except OSError:
+                break
+        raise
 
 
 def _make_all(names, out: Path, scene, log=print, **kw) -> list[Path]:

@@ -107,3 +107,30 @@ def test_a_killed_runs_staging_folder_is_removed(out):
     make_figures(out, only="2", scene=SMALL, progress=False, log=lambda *_: None)
     assert not stale.exists()
     assert (out / "fig2.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_a_failed_run_leaves_no_new_folder(tmp_path, monkeypatch):
+    """--out names folders that do not exist yet: a failed run removes the ones it made."""
+    def broken(*_, **__):
+        raise SunsetError("figure 3 failed on purpose")
+
+    monkeypatch.setattr(fig3, "figure3", broken)
+    with pytest.raises(SunsetError, match="on purpose"):
+        make_figures(tmp_path / "new" / "figs", only="2,3", scene=SMALL, progress=False, log=lambda *_: None)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_figure_over_budget_is_refused_before_any_figure(out, monkeypatch, capsys):
+    """The RGB figure traces 2x2 samples a pixel: at 4000x4000 that is over budget, refused before Figure 2 is made."""
+    import sunset.figures.fig2 as fig2
+
+    def not_now(*_, **__):
+        raise AssertionError("a figure was made before the budget was checked")
+
+    monkeypatch.setattr(fig2, "figure2", not_now)
+    before = snapshot(out)
+    code = main(["figures", "--only", "2,rgb", "--size", "4000x4000", "--out", str(out), "-q"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert err[0].startswith("sunset: error: figure rgb at 4000x4000: samples:"), err
+    assert snapshot(out) == before
