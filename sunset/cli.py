@@ -326,8 +326,10 @@ def _cmd_render_rgb(args, samples: int) -> None:
     if args.still:
         scene = scene.still()
     from .figures.paper import png_metadata
+    from .kernels import keep_freed_memory
     from .light.film import write_rgb_frame
 
+    keep_freed_memory()                                # the supersampled frame's big arrays, reused
     settings = {"t": args.time, "hours": args.hours, "reflections": args.reflections, "shading": "rgb",
                 "samples": samples, "depth": depth}
     write_rgb_frame(scene, args.output, t=args.time, hours=args.hours, samples=samples,

@@ -50,7 +50,7 @@ except ImportError:  # pragma: no cover
     _numba = None
 
 __all__ = ["AVAILABLE", "enabled", "use_compiled", "jit", "twin", "threads", "use_threads", "strips", "row_strips",
-           "run_strips"]
+           "run_strips", "keep_freed_memory"]
 
 #: True when Numba is importable (the compiled kernels exist).
 AVAILABLE = _numba is not None
@@ -233,3 +233,35 @@ def run_strips(fn, parts) -> list:
     pool = _pool()
     futures = [pool.submit(fn, a, b) for a, b in parts]
     return [f.result() for f in futures]
+
+
+# --------------------------------------------------------------------------- the allocator
+#: The largest block the C allocator keeps for reuse under :func:`keep_freed_memory`, bytes.
+KEEP_BLOCK_BYTES = 1 << 30
+
+
+def keep_freed_memory() -> bool:
+    """Let the C library's allocator keep freed large blocks for the next frame; True where it was done.
+
+    glibc hands every block over 32 MiB straight back to the system when it is
+    freed, and the next frame's arrays of the same size are then faulted in
+    again page by page, which on a virtual machine costs more than the
+    arithmetic that fills them (a 2048 × 2048 frame's arrays are 48 MiB and
+    more). Raising the allocator's mmap and trim thresholds
+    (``mallopt(M_MMAP_THRESHOLD)``, ``mallopt(M_TRIM_THRESHOLD)``) to
+    :data:`KEEP_BLOCK_BYTES` makes it reuse them instead: the results are the
+    same bytes, the process keeps its peak memory until it exits. The
+    ``sunset`` command and the RGB benchmark call it for the RGB back end;
+    ``SUNSET_KEEP_MEMORY=0`` turns it off. A no-op off glibc.
+    """
+    if os.environ.get("SUNSET_KEEP_MEMORY", "1") == "0":
+        return False
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL("libc.so.6")
+        mallopt = libc.mallopt
+    except (OSError, AttributeError):       # pragma: no cover - not glibc
+        return False
+    m_trim_threshold, m_mmap_threshold = -1, -3
+    return bool(mallopt(m_mmap_threshold, KEEP_BLOCK_BYTES)) and bool(mallopt(m_trim_threshold, KEEP_BLOCK_BYTES))

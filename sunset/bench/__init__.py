@@ -250,11 +250,16 @@ def _function_name(file: str, name: str) -> str:
 
 
 def _measure_rgb(width: int, height: int, repeats: int) -> dict:
-    """The RGB back end (:mod:`sunset.light`): re-shading a stored frame, one hour's light, a 4-sample frame."""
+    """The RGB back end (:mod:`sunset.light`): re-shading a stored frame, one hour's light, a 4-sample frame.
+
+    As the ``sunset`` command does for it, the allocator keeps freed blocks (:func:`sunset.kernels.keep_freed_memory`).
+    """
+    from ..kernels import keep_freed_memory
     from ..light.lighting import Lighting
     from ..light.render import shade_display, trace_geometry
     from ..model.scene import Scene
 
+    keep_freed_memory()
     scene = Scene.default().with_size(width, height)
     geometry = trace_geometry(scene, 0.0, 2)
     light = Lighting.for_hour(scene.sun, 0.35)

@@ -36,9 +36,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import CLOUD, PART_CLIFF, POST, SEA, SKY, WATER_REFRACTIVE_INDEX
+from ..constants import CLOUD, SKY, WATER_REFRACTIVE_INDEX
 from ..errors import SunsetError
-from .fresnel import reflectance, refract
+from ..kernels import row_strips, run_strips
+from .paths import trace_paths
+from .water import diffuse_mean_cosine
 
 __all__ = ["Geometry", "WaterLayer"]
 
@@ -65,15 +67,14 @@ class Geometry:
     shape: tuple
     final_dir: np.ndarray      # (N, 3) float32
     final_kind: np.ndarray     # (N,) int8: −1 sky, 1 beach, 2 cliff, 3 hill
-    final_normal: np.ndarray   # (N, 3) float32 (islands; 0 elsewhere)
     throughput: np.ndarray     # (N,) float32: product of the Fresnel reflectances
-    water: list                # of WaterLayer
     sky_index: np.ndarray      # (S,) intp: which pixels end in the sky
     sky_dir: np.ndarray        # (S, 3) float32: their final rays
     sky_r0: np.ndarray         # (S,) int32: the refined sky table's row below each ray
     sky_fr: np.ndarray         # (S,) float32: and the fraction towards the next
     sky_azimuth: np.ndarray    # (S,) float32: azimuth of their final rays
     island_index: np.ndarray   # (I,) intp: which pixels end on an island
+    island_normal: np.ndarray  # (I, 3) float32: their normals
     island_g: np.ndarray       # (I, 2) int32: the cell of the normal in the skylight table
     island_f: np.ndarray       # (I, 2) float32: and the fractions inside it
     water_starts: np.ndarray   # (layers,) intp: first entry of each bounce's water
@@ -88,101 +89,102 @@ class Geometry:
 
     @property
     def nbytes(self) -> int:
-        arrays = [self.final_dir, self.final_kind, self.final_normal, self.throughput, self.sky_index, self.sky_dir,
+        arrays = [self.final_dir, self.final_kind, self.island_normal, self.throughput, self.sky_index, self.sky_dir,
                   self.sky_r0, self.sky_fr, self.sky_azimuth, self.island_index, self.island_g, self.island_f,
                   self.water_index, self.water_up, self.water_mu, self.water_weight, self.water_sky]
-        arrays += [a for w in self.water for a in (w.index, w.up, w.weight)]
         arrays += [a for a in (self.sky_cloud, self.island_point) if a is not None]
         return int(sum(a.nbytes for a in arrays))
 
+    @property
+    def final_normal(self) -> np.ndarray:
+        """(N, 3) float32: the final hit's normal at island pixels, 0 elsewhere (made from ``island_normal``)."""
+        out = np.zeros_like(self.final_dir)
+        out[self.island_index] = self.island_normal
+        return out
+
+    @property
+    def water(self) -> list:
+        """The water of each bounce as :class:`WaterLayer` views into the compressed lists."""
+        ends = list(self.water_starts[1:]) + [len(self.water_index)]
+        return [WaterLayer(index=self.water_index[a:b], up=self.water_up[a:b], weight=self.water_weight[a:b])
+                for a, b in zip(self.water_starts, ends)]
+
     @classmethod
     def from_frame(cls, frame, n: float = WATER_REFRACTIVE_INDEX) -> "Geometry":
-        """Build from a traced frame (after :func:`sunset.render`)."""
-        from .lighting import NORMAL_GRID, SKY_REFINE, SKY_ROWS, sky_row
-        from .water import diffuse_mean_cosine
+        """Build from a traced frame (after :func:`sunset.render`).
 
+        The frame's rows are cut into strips (:func:`sunset.kernels.row_strips`)
+        handed to the threads; each strip's paths are the kernel
+        :func:`sunset.light.paths.trace_paths` (NumPy, or its Numba twin), and the
+        strips' lists are joined in order, so the geometry is the same bytes
+        for any number of threads.
+        """
         if frame.final_surface is None or frame.incidence is None:
             raise SunsetError("the frame has no reflected rays: render it with sunset.render first")
         h, w = frame.shape
         npx = h * w
-        surface = frame.surface.reshape(-1)
-        final_surface = frame.final_surface.reshape(-1)
-        final_part = frame.final_part.reshape(-1)
-        final_dir = np.ascontiguousarray(frame.ray.reshape(-1, 3), np.float32).copy()
-        # posts in the water are brown wood, shaded as the cliff (as the 8-bit codes do); rays that end on a
-        # cloud are sky rays that keep the cloud's depth (sky_cloud below)
-        kind = np.where((final_surface == SKY) | (final_surface == CLOUD), SKY,
-                        np.where(final_surface == POST, PART_CLIFF, final_part)).astype(np.int8)
-        normal = np.nan_to_num(frame.final_normal.reshape(-1, 3).astype(np.float32), nan=0.0)
-        throughput = np.ones(npx, np.float32)
-        layers = []
+        flat = {name: getattr(frame, name).reshape((npx,) + getattr(frame, name).shape[2:])
+                for name in ("surface", "final_surface", "final_part", "final_normal", "direction", "normal",
+                             "incidence", "sea_rays", "ray", "bounces", "point")}
+        depth = None if frame.cloud_depth is None else frame.cloud_depth.reshape(-1)
+        final_dir = flat["ray"]            # the frame's final rays, not copied (float32 already)
+        kind = np.empty(npx, np.int8)
+        throughput = np.empty(npx, np.float32)
 
-        sea = np.flatnonzero(surface == SEA)
-        # float32 throughout, as the frame stores them
-        inc = frame.incidence.reshape(-1, 2)[sea]
-        rays = frame.sea_rays.reshape(-1, 2, 3)[sea]
-        d = frame.direction.reshape(-1, 3)[sea]
-        n1 = frame.normal.reshape(-1, 3)[sea]
-        # bounce 1: the eye's ray D on the wave normal N₁
-        c1 = np.clip(inc[:, 0], 0.0, 1.0)
-        layers.append(_water(sea, d, n1, c1, throughput[sea], n))
-        throughput[sea] *= reflectance(c1, n).astype(np.float32)
-        last = rays[:, 0]
-        # bounce 2: R₁ on N₂ = (R₂ − R₁)/(2 cos i₂)
-        two = np.isfinite(inc[:, 1])
-        if np.any(two):
-            c2 = np.clip(inc[two, 1], 0.0, 1.0)
-            r1, r2 = rays[two, 0], rays[two, 1]
-            n2 = r2 - r1
-            n2 /= np.maximum(np.linalg.norm(n2, axis=-1, keepdims=True), np.float32(1e-30))
-            idx = sea[two]
-            layers.append(_water(idx, r1, n2, c2, throughput[idx], n))
-            throughput[idx] *= reflectance(c2, n).astype(np.float32)
-            last = last.copy()
-            last[two] = r2
-        # the fold: a ray still heading down reflects off the mean surface
-        down = last[:, 2] < 0.0
-        if np.any(down):
-            idx = sea[down]
-            ld = last[down]
-            c3 = np.clip(-ld[:, 2], 0.0, 1.0)
-            up = np.broadcast_to(np.array([0.0, 0.0, 1.0], np.float32), ld.shape)
-            layers.append(_water(idx, ld, up, c3, throughput[idx], n))
-            throughput[idx] *= reflectance(c3, n).astype(np.float32)
+        def rows(r0: int, r1: int) -> dict:
+            a, b = r0 * w, r1 * w
+            part = {k: v[a:b] for k, v in flat.items()}
+            kind[a:b], normal, throughput[a:b], layers = trace_paths(
+                part["surface"], part["final_surface"], part["final_part"], part["final_normal"],
+                part["direction"], part["normal"], part["incidence"], part["sea_rays"], float(n))
+            out = {"layers": [(i + a, up, wt) for i, up, wt in layers]}
+            out.update(_lookups(part, kind[a:b], normal, a, None if depth is None else depth[a:b]))
+            return out
 
-        sky_index = np.flatnonzero(kind == SKY)
-        fd = final_dir[sky_index]
-        r_max = (SKY_ROWS - 1) * SKY_REFINE[0]
-        rows = np.clip(sky_row(fd[:, 2]) * SKY_REFINE[0], 0, r_max)
-        r0 = np.minimum(rows.astype(np.int32), r_max - 1)
-        az = np.arctan2(fd[:, 1], fd[:, 0])
-        island_index = np.flatnonzero(kind > 0)
-        g = (np.clip(normal[island_index, :2].astype(np.float64), -1, 1) + 1.0) * (0.5 * (NORMAL_GRID - 1))
-        g0 = np.minimum(g.astype(np.int32), NORMAL_GRID - 2)
-        mu_bar = diffuse_mean_cosine(n)
-        w_up = np.concatenate([w.up for w in layers]) if layers else np.zeros((0, 3), np.float32)
-        w_weight = np.concatenate([w.weight for w in layers]) if layers else np.zeros(0, np.float32)
+        strips = run_strips(rows, row_strips(h, w))
+        join = lambda key, empty: np.concatenate([s[key] for s in strips]) if strips else empty  # noqa: E731
+        layers = [tuple(np.concatenate([s["layers"][k][j] for s in strips]) for j in range(3)) for k in range(3)]
+        w_index = np.concatenate([layer[0] for layer in layers])
+        w_up = np.ascontiguousarray(np.concatenate([layer[1] for layer in layers]))
+        w_weight = np.concatenate([layer[2] for layer in layers])
+        starts = np.cumsum([0] + [len(layer[0]) for layer in layers[:-1]]).astype(np.intp)
         w_mu = np.maximum(w_up[:, 2], np.float32(0))
+        mu_bar = diffuse_mean_cosine(n)
         w_sky = (w_weight.astype(np.float64) / (4.0 * np.pi) / (mu_bar + w_mu.astype(np.float64))).astype(np.float32)
-        starts = np.cumsum([0] + [len(w.index) for w in layers[:-1]]).astype(np.intp) if layers else np.zeros(0, np.intp)
-        sky_cloud = None
-        if frame.cloud_depth is not None:
-            depth = frame.cloud_depth.reshape(-1)[sky_index]
-            sky_cloud = np.where(final_surface[sky_index] == CLOUD, depth, np.nan).astype(np.float32)
-        direct_hit = (frame.bounces.reshape(-1)[island_index] == 0)
-        island_point = np.where(direct_hit[:, None], frame.point.reshape(-1, 3)[island_index], np.nan).astype(np.float32)
-        return cls(shape=(h, w), final_dir=final_dir, final_kind=kind, final_normal=normal,
-                   throughput=throughput.astype(np.float32), water=layers, sky_index=sky_index,
-                   sky_dir=np.ascontiguousarray(final_dir[sky_index]), sky_r0=r0, sky_fr=(rows - r0).astype(np.float32),
-                   sky_azimuth=az, island_index=island_index, island_g=g0, island_f=(g - g0).astype(np.float32),
-                   water_starts=starts, water_index=np.concatenate([w.index for w in layers]) if layers
-                   else np.zeros(0, np.intp), water_up=np.ascontiguousarray(w_up), water_mu=w_mu,
-                   water_weight=w_weight, water_sky=w_sky, n=float(n), sky_cloud=sky_cloud,
-                   island_point=island_point)
+        return cls(shape=(h, w), final_dir=final_dir, final_kind=kind, throughput=throughput,
+                   sky_index=join("sky_index", None), sky_dir=join("sky_dir", None), sky_r0=join("sky_r0", None),
+                   sky_fr=join("sky_fr", None), sky_azimuth=join("sky_azimuth", None),
+                   island_index=join("island_index", None), island_normal=join("island_normal", None),
+                   island_g=join("island_g", None),
+                   island_f=join("island_f", None), water_starts=starts, water_index=w_index, water_up=w_up,
+                   water_mu=w_mu, water_weight=w_weight, water_sky=w_sky, n=float(n),
+                   sky_cloud=None if depth is None else join("sky_cloud", None),
+                   island_point=join("island_point", None))
 
 
-def _water(index, incident, normal, cos_i, before, n) -> WaterLayer:
-    t = refract(incident, normal, cos_i, np.float32(n))
-    up = -t / np.linalg.norm(t, axis=-1, keepdims=True)
-    weight = before * ((1.0 - reflectance(cos_i, n)) / (n * n)).astype(np.float32)
-    return WaterLayer(index=np.asarray(index, np.intp), up=up.astype(np.float32), weight=weight.astype(np.float32))
+def _lookups(part: dict, kind, normal, offset: int, depth) -> dict:
+    """A strip's sky and island lists: which pixels, and where their rays and normals fall in the hour's tables.
+
+    Plain NumPy on both paths (its arcsin and arctan2 are NumPy's, so either
+    kernel path gives the same bytes).
+    """
+    from .lighting import NORMAL_GRID, SKY_REFINE, SKY_ROWS, sky_row
+
+    sky_local = np.flatnonzero(kind == SKY)
+    fd = part["ray"][sky_local]
+    r_max = (SKY_ROWS - 1) * SKY_REFINE[0]
+    rows = np.clip(sky_row(fd[:, 2]) * SKY_REFINE[0], 0, r_max)
+    r0 = np.minimum(rows.astype(np.int32), r_max - 1)
+    isl_local = np.flatnonzero(kind > 0)
+    g = (np.clip(normal[isl_local, :2].astype(np.float64), -1, 1) + 1.0) * (0.5 * (NORMAL_GRID - 1))
+    g0 = np.minimum(g.astype(np.int32), NORMAL_GRID - 2)
+    direct_hit = part["bounces"][isl_local] == 0
+    out = {"sky_index": sky_local + offset, "sky_dir": fd, "sky_r0": r0, "sky_fr": (rows - r0).astype(np.float32),
+           "sky_azimuth": np.arctan2(fd[:, 1], fd[:, 0]), "island_index": isl_local + offset,
+           "island_normal": normal[isl_local], "island_g": g0,
+           "island_f": (g - g0).astype(np.float32),
+           "island_point": np.where(direct_hit[:, None], part["point"][isl_local], np.nan).astype(np.float32)}
+    if depth is not None:
+        out["sky_cloud"] = np.where(part["final_surface"][sky_local] == CLOUD, depth[sky_local],
+                                    np.nan).astype(np.float32)
+    return out

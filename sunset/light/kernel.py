@@ -29,7 +29,7 @@ import numpy as np
 from ..kernels import twin
 from .water import PHASE_ANISOTROPY
 
-__all__ = ["sky_pixels", "island_pixels", "combine", "PHASE_NORM"]
+__all__ = ["sky_pixels", "island_pixels", "combine", "display_pixels", "display_box", "PHASE_NORM"]
 
 #: 1/(4π (1 + 0.835/3)): the normalisation of the water's phase function (:func:`sunset.light.water.phase`).
 PHASE_NORM = 1.0 / (4.0 * math.pi * (1.0 + PHASE_ANISOTROPY / 3.0))
@@ -148,6 +148,26 @@ def display_pixels(xyz, scale, m, exponent, semi_saturation) -> np.ndarray:
     lin, y = _linear_rgb(x, m)
     a = np.power(y, exponent)
     return _respond(lin, y, a, semi_saturation ** exponent)
+
+
+@twin("sunset.light.kernel_numba")
+def display_box(xyz, scale, m, exponent, semi_saturation, k: int) -> np.ndarray:
+    """XYZ (kH, kW, 3) → linear display RGB (H, W, 3) float64: :func:`display_pixels`, then the mean of each k × k block.
+
+    The block's samples are added row by row, left to right, and the sum
+    divided by k² (the order NumPy's ``mean(axis=(1, 3))`` takes, so the
+    result is the same bytes as that); the twin fuses the two steps pixel by
+    pixel and never holds the full-resolution response.
+    """
+    hk, wk = xyz.shape[:2]
+    rgb = display_pixels.reference(np.asarray(xyz).reshape(-1, 3), scale, m, exponent,
+                                   semi_saturation).reshape(hk // k, k, wk // k, k, 3)
+    acc = rgb[:, 0, :, 0].copy()
+    for i in range(k):
+        for j in range(k):
+            if i or j:
+                acc += rgb[:, i, :, j]
+    return acc / (k * k)
 
 
 def _linear_rgb(x, m):

@@ -10,7 +10,7 @@ from ..kernels import jit
 from .kernel import PHASE_NORM
 from .water import PHASE_ANISOTROPY
 
-__all__ = ["sky_pixels", "island_pixels", "combine"]
+__all__ = ["sky_pixels", "island_pixels", "combine", "display_pixels", "display_box"]
 
 
 @jit
@@ -134,19 +134,52 @@ def _linear_rgb(xyz, scale, m, lin, y):
 
 
 @jit
+def _respond_one(l0, l1, l2, yi, ai, s_n):
+    resp = ai / (ai + s_n)
+    k = resp / yi if yi > 1e-12 else 0.0
+    r0 = l0 * k
+    r1 = l1 * k
+    r2 = l2 * k
+    top = max(max(r0, r1), r2)
+    t = (top - 1.0) / (top - resp) if top > 1.0 else 0.0
+    v0 = min(max((1.0 - t) * r0 + t * resp, 0.0), 1.0)
+    v1 = min(max((1.0 - t) * r1 + t * resp, 0.0), 1.0)
+    v2 = min(max((1.0 - t) * r2 + t * resp, 0.0), 1.0)
+    return v0, v1, v2
+
+
+@jit
 def _respond(lin, y, a, s_n, out):
     for i in range(lin.shape[0]):
-        resp = a[i] / (a[i] + s_n)
-        yi = y[i]
-        k = resp / yi if yi > 1e-12 else 0.0
-        r0 = lin[i, 0] * k
-        r1 = lin[i, 1] * k
-        r2 = lin[i, 2] * k
-        top = max(max(r0, r1), r2)
-        t = (top - 1.0) / (top - resp) if top > 1.0 else 0.0
-        for c, r in enumerate((r0, r1, r2)):
-            v = (1.0 - t) * r + t * resp
-            out[i, c] = min(max(v, 0.0), 1.0)
+        v0, v1, v2 = _respond_one(lin[i, 0], lin[i, 1], lin[i, 2], y[i], a[i], s_n)
+        out[i, 0] = v0
+        out[i, 1] = v1
+        out[i, 2] = v2
+
+
+@jit
+def _respond_box(lin, y, a, s_n, k, wk, out):
+    kk = k * k
+    for r in range(out.shape[0]):
+        for c in range(out.shape[1]):
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            for i in range(k):
+                for j in range(k):
+                    p = (r * k + i) * wk + c * k + j
+                    v0, v1, v2 = _respond_one(lin[p, 0], lin[p, 1], lin[p, 2], y[p], a[p], s_n)
+                    if i == 0 and j == 0:
+                        s0 = v0
+                        s1 = v1
+                        s2 = v2
+                    else:
+                        s0 += v0
+                        s1 += v1
+                        s2 += v2
+            out[r, c, 0] = s0 / kk
+            out[r, c, 1] = s1 / kk
+            out[r, c, 2] = s2 / kk
 
 
 def display_pixels(xyz, scale, m, exponent, semi_saturation) -> np.ndarray:
@@ -159,4 +192,18 @@ def display_pixels(xyz, scale, m, exponent, semi_saturation) -> np.ndarray:
     a = np.power(y, exponent)
     out = np.empty((n, 3))
     _respond(lin, y, a, semi_saturation ** exponent, out)
+    return out
+
+
+def display_box(xyz, scale, m, exponent, semi_saturation, k: int) -> np.ndarray:
+    """:func:`sunset.light.kernel.display_box`, compiled (the power yⁿ stays NumPy's)."""
+    hk, wk = xyz.shape[:2]
+    flat = np.ascontiguousarray(xyz).reshape(-1, 3)
+    n = flat.shape[0]
+    lin = np.empty((n, 3))
+    y = np.empty(n)
+    _linear_rgb(flat, float(scale), np.ascontiguousarray(m, np.float64), lin, y)
+    a = np.power(y, exponent)
+    out = np.empty((hk // k, wk // k, 3))
+    _respond_box(lin, y, a, semi_saturation ** exponent, int(k), wk, out)
     return out

@@ -22,7 +22,7 @@ from ..errors import SunsetError, require_finite, require_int_range
 from .geometry import Geometry
 from .lighting import Lighting
 from .shade import shade
-from .tone import display_linear, scene_linear
+from .tone import display_filtered, scene_linear
 
 __all__ = ["MAX_SAMPLES", "check_samples", "supersampled", "trace_geometry", "shade_display", "render_rgb", "frame_light",
            "box_filter", "shade_scene_linear"]
@@ -67,8 +67,12 @@ def box_filter(image: np.ndarray, k: int) -> np.ndarray:
 
 
 def shade_display(geometry: Geometry, light: Lighting, k: int = 1) -> np.ndarray:
-    """Shade, apply the film's response and box-filter k × k: linear display RGB (H, W, 3) in [0, 1]."""
-    return box_filter(display_linear(shade(geometry, light), light.scale), k)
+    """Shade, apply the film's response and box-filter k × k: linear display RGB (H, W, 3) in [0, 1].
+
+    The response and the filter are one pass (:func:`sunset.light.tone.display_filtered`): the same bytes as
+    ``box_filter(display_linear(shade(geometry, light), light.scale), k)``.
+    """
+    return display_filtered(shade(geometry, light), light.scale, k)
 
 
 def shade_scene_linear(geometry: Geometry, light: Lighting, k: int = 1) -> np.ndarray:

@@ -14,8 +14,10 @@ reversed refracted ray u_k (:mod:`sunset.light.water`):
 
 both ω E' vectors in XYZ per hour (:class:`~sunset.light.lighting.Lighting`).
 Everything is float32 XYZ radiance in the sky model's units. The per-pixel
-loops are the kernels of :mod:`sunset.light.kernel`; the extra sky layers and
-light sources of a Lighting are applied between them.
+loops are the kernels of :mod:`sunset.light.kernel`, the sky's and the islands'
+run on strips of their lists on the threads (each entry computed alone, so
+the same bytes for any number of threads); the extra sky layers and light
+sources of a Lighting are applied between them.
 """
 
 from __future__ import annotations
@@ -24,6 +26,8 @@ import math
 
 import numpy as np
 
+from ..constants import STRIP_PIXELS
+from ..kernels import run_strips, strips
 from .geometry import Geometry
 from .kernel import combine, island_pixels, sky_pixels
 from .lighting import SKY_REFINE, Lighting
@@ -34,9 +38,14 @@ __all__ = ["shade"]
 def shade(geometry: Geometry, light: Lighting) -> np.ndarray:
     """Radiance XYZ (H, W, 3) float32 of a stored frame under ``light``."""
     g = geometry
-    sky = sky_pixels(g.sky_r0, g.sky_fr, g.sky_azimuth, g.sky_dir, light.sky_linear, light.sun_azimuth,
-                     (light.sky_table.shape[1] - 1) * SKY_REFINE[1], light.sun_dir,
-                     math.cos(light.delta), light.sun_xyz)
+    sky = np.empty((len(g.sky_index), 3), np.float32)
+    col_scale = (light.sky_table.shape[1] - 1) * SKY_REFINE[1]
+
+    def sky_part(a: int, b: int) -> None:
+        sky[a:b] = sky_pixels(g.sky_r0[a:b], g.sky_fr[a:b], g.sky_azimuth[a:b], g.sky_dir[a:b], light.sky_linear,
+                              light.sun_azimuth, col_scale, light.sun_dir, math.cos(light.delta), light.sun_xyz)
+
+    run_strips(sky_part, strips(len(sky), STRIP_PIXELS))
     for layer in light.extra_sky:
         sky = np.asarray(layer(g.sky_dir, sky), np.float32)
     if g.sky_cloud is not None and light.cloud_xyz is not None:
@@ -45,10 +54,15 @@ def shade(geometry: Geometry, light: Lighting) -> np.ndarray:
             sky = np.array(sky, np.float32)
             sky[on] = light.cloud(g.sky_cloud[on])
     direct, table = light.island_tables()
-    isl_normal = g.final_normal[g.island_index]
+    isl_normal = g.island_normal
     isl_part = g.final_kind[g.island_index]
-    island = island_pixels(isl_normal, isl_part, g.island_g[:, 0], g.island_g[:, 1], g.island_f[:, 0],
-                           g.island_f[:, 1], light.sun_dir, direct, table)
+    island = np.empty((len(isl_part), 3), np.float32)
+
+    def island_part(a: int, b: int) -> None:
+        island[a:b] = island_pixels(isl_normal[a:b], isl_part[a:b], g.island_g[a:b, 0], g.island_g[a:b, 1],
+                                    g.island_f[a:b, 0], g.island_f[a:b, 1], light.sun_dir, direct, table)
+
+    run_strips(island_part, strips(len(island), STRIP_PIXELS))
     for source in light.extra_irradiance:
         island = np.asarray(island + source(g.island_point, isl_normal, isl_part), np.float32)
     out = combine(g.final_dir.shape[0], g.throughput, g.sky_index, sky, g.island_index, island, g.water_starts,

@@ -72,3 +72,29 @@ def display_linear(xyz, scale: float) -> np.ndarray:
     flat = display_pixels(xyz.reshape(-1, 3), float(scale), xyz_to_rgb_matrix(), EYE_RESPONSE_EXPONENT,
                           EYE_SEMI_SATURATION)
     return flat.reshape(xyz.shape)
+
+
+def display_filtered(xyz, scale: float, k: int = 1) -> np.ndarray:
+    """XYZ radiance (kH, kW, 3) → linear display RGB (H, W, 3) in [0, 1]: the film's response, then a k × k box.
+
+    :func:`display_linear` followed by the mean of each k × k block (the
+    anti-aliasing filter of :mod:`sunset.light.render`), computed strip by
+    strip of rows on the threads (:func:`sunset.kernels.run_strips`) by the
+    kernel :func:`sunset.light.kernel.display_box`, so that the full-resolution
+    response is never held; the same bytes for any number of threads.
+    """
+    from ..kernels import row_strips, run_strips
+    from .kernel import display_box
+
+    xyz = np.asarray(xyz)
+    k = int(k)
+    h, w = xyz.shape[0] // k, xyz.shape[1] // k
+    out = np.empty((h, w, 3))
+    m = xyz_to_rgb_matrix()
+
+    def rows(r0: int, r1: int) -> None:
+        out[r0:r1] = display_box(xyz[r0 * k:r1 * k, :w * k], float(scale), m, EYE_RESPONSE_EXPONENT,
+                                 EYE_SEMI_SATURATION, k)
+
+    run_strips(rows, row_strips(h, w * k * k))
+    return out

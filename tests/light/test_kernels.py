@@ -36,7 +36,7 @@ def test_shading_twins_give_the_same_bytes(setup, hours):
 
 
 def test_every_kernel_has_a_twin():
-    for name in ("sky_pixels", "island_pixels", "combine", "display_pixels"):
+    for name in ("sky_pixels", "island_pixels", "combine", "display_pixels", "display_box"):
         k = getattr(kernel, name)
         assert k.compiled() is not k.reference
 
@@ -52,3 +52,133 @@ def test_display_is_the_eyes_response():
         with kernels.use_compiled(flag):
             np.testing.assert_allclose(display_linear(xyz, 0.7), want, rtol=1e-12, atol=1e-14)
     assert np.all(display_linear(xyz[10:20], 0.7) > 0.999)
+
+
+# --------------------------------------------------------------------------- the paths and the filter (issue 15)
+from sunset.light import paths  # noqa: E402
+from sunset.light.fresnel import reflectance, refract  # noqa: E402
+from sunset.light.render import box_filter, shade_display  # noqa: E402
+from sunset.light.tone import display_filtered  # noqa: E402
+
+
+def _flat(frame):
+    n = frame.shape[0] * frame.shape[1]
+    return [getattr(frame, k).reshape((n,) + getattr(frame, k).shape[2:]) for k in
+            ("surface", "final_surface", "final_part", "final_normal", "direction", "normal", "incidence",
+             "sea_rays")]
+
+
+@pytest.fixture(scope="module")
+def frames():
+    from sunset.model.scene import load_named_scene
+
+    out = [render(Scene.default().with_size(96, 80), 0.4, 2), render(Scene.default().with_size(72, 64), 1.3, 1)]
+    out.append(render(load_named_scene("post-in-the-swell").with_size(80, 72), 0.2, 2))
+    return out
+
+
+def _same(a, b):
+    if isinstance(a, tuple):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            _same(x, y)
+    else:
+        assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def test_the_paths_twin_gives_the_same_bytes(frames):
+    for f in frames:
+        args = _flat(f)
+        _same(paths.trace_paths.reference(*args, 1.34), paths.trace_paths.compiled()(*args, 1.34))
+
+
+def test_the_paths_twin_agrees_on_hostile_values():
+    rng = np.random.default_rng(3)
+    n = 4000
+    surface = rng.integers(-3, 3, n).astype(np.int8)
+    final_surface = rng.integers(-3, 3, n).astype(np.int8)
+    final_part = rng.integers(0, 4, n).astype(np.int8)
+    vec = lambda *s: rng.normal(size=s).astype(np.float32)  # noqa: E731
+    final_normal, direction, normal = vec(n, 3), vec(n, 3), vec(n, 3)
+    final_normal[::7] = np.nan
+    incidence = rng.uniform(-0.2, 1.2, (n, 2)).astype(np.float32)
+    incidence[::3, 1] = np.nan
+    incidence[::11, 0] = np.nan
+    sea_rays = vec(n, 2, 3)
+    sea_rays[::5, 1] = sea_rays[::5, 0]                     # R2 = R1: the normal's length is floored
+    args = (surface, final_surface, final_part, final_normal, direction, normal, incidence, sea_rays)
+    _same(paths.trace_paths.reference(*args, 1.33), paths.trace_paths.compiled()(*args, 1.33))
+
+
+def test_the_paths_are_snells_and_fresnels_law(frames):
+    """The first bounce against sunset.light.fresnel's refract and reflectance, computed independently."""
+    f = frames[0]
+    args = _flat(f)
+    kind, _, tau, layers = paths.trace_paths.reference(*args, 1.34)
+    sea = np.flatnonzero(args[0] == 0)
+    index, up, weight = layers[0]
+    np.testing.assert_array_equal(index, sea)
+    c = np.clip(args[6][sea, 0].astype(float), 0, 1)
+    t = refract(args[4][sea].astype(float), args[5][sea].astype(float), c, 1.34)
+    want = -t / np.linalg.norm(t, axis=-1, keepdims=True)
+    np.testing.assert_allclose(up, want, atol=3e-6)
+    np.testing.assert_allclose(weight, (1 - reflectance(c, 1.34)) / 1.34**2, rtol=1e-6)
+    one = ~np.isfinite(args[6][sea, 1]) & (args[7][sea, 0, 2] >= 0)
+    np.testing.assert_allclose(tau[sea[one]], reflectance(c[one], 1.34), rtol=1e-6)
+    assert np.all(tau[args[0] != 0] == 1)
+
+
+@pytest.mark.parametrize("k", [1, 2, 3])
+def test_the_filtered_response_is_the_response_then_the_box(k):
+    rng = np.random.default_rng(k)
+    xyz = np.exp(rng.normal(-3, 3, (k * 23, k * 31, 3))).astype(np.float32)
+    xyz[0, :k] = 1e9
+    want = box_filter(display_linear(xyz, 0.7), k)
+    for flag in (False, True):
+        for n in (1, 2):
+            with kernels.use_compiled(flag), kernels.use_threads(n):
+                got = display_filtered(xyz, 0.7, k)
+            assert got.dtype == want.dtype and got.tobytes() == want.tobytes()
+
+
+def test_the_filter_twin_gives_the_same_bytes():
+    rng = np.random.default_rng(5)
+    xyz = np.exp(rng.normal(-2, 3, (12, 18, 3))).astype(np.float32)
+    m = xyz_to_rgb_matrix()
+    for k in (1, 2, 3):
+        a = kernel.display_box.reference(xyz, 0.5, m, 0.6, 0.3, k)
+        b = kernel.display_box.compiled()(xyz, 0.5, m, 0.6, 0.3, k)
+        assert a.shape == (12 // k, 18 // k, 3) and a.tobytes() == b.tobytes()
+
+
+def test_the_geometry_is_the_same_bytes_on_every_path_and_thread_count(frames):
+    import dataclasses
+
+    f = frames[2]
+    runs = []
+    for flag in (False, True):
+        for n in (1, 2, 3):
+            with kernels.use_compiled(flag), kernels.use_threads(n), \
+                    pytest.MonkeyPatch.context() as mp:
+                mp.setattr("sunset.constants.STRIP_PIXELS", 512)        # many strips even on a small frame
+                runs.append(Geometry.from_frame(f))
+    for g in runs[1:]:
+        for field in dataclasses.fields(g):
+            a, b = getattr(runs[0], field.name), getattr(g, field.name)
+            if isinstance(a, np.ndarray):
+                assert a.dtype == b.dtype and a.tobytes() == b.tobytes(), field.name
+            else:
+                assert a == b
+    g = runs[0]
+    np.testing.assert_array_equal(g.final_normal.reshape(f.shape + (3,)),
+                                  np.nan_to_num(f.final_normal, nan=0.0))
+    light = Lighting.for_hour(Scene.default().sun, 0.4)
+    want = shade_display(g, light, 1)
+    for n in (1, 2):
+        with kernels.use_threads(n):
+            assert shade_display(g, light, 1).tobytes() == want.tobytes()
+
+
+def test_keeping_freed_memory_can_be_turned_off(monkeypatch):
+    monkeypatch.setenv("SUNSET_KEEP_MEMORY", "0")
+    assert kernels.keep_freed_memory() is False

@@ -1,0 +1,123 @@
+"""The light paths of a strip of pixels: the kernel behind :meth:`sunset.light.geometry.Geometry.from_frame`.
+
+For each pixel of a strip (flat arrays of a frame's rows) :func:`trace_paths`
+works out what its path does, without the light (see
+:mod:`sunset.light.geometry`):
+
+* the final kind: −1 sky (a cloud counts as sky), an island part 1–3, or a
+  post, shaded as the cliff (2);
+* the final normal, NaN made 0;
+* at each sea bounce k (the eye's ray D on the wave's normal N₁; R₁ on
+  N₂ = (R₂ − R₁)/|R₂ − R₁|; and the fold of a ray still heading down,
+  off the mean surface N = (0, 0, 1)) the direction u_k of the light that
+  comes up out of the water towards the eye, the refracted ray reversed
+  (Snell's law in vector form, :func:`sunset.light.fresnel.refract`), and
+  the weight τ_(k−1) (1 − R_k)/n²;
+* the throughput τ = Π R_k, R_k the unpolarised Fresnel reflectance.
+
+Precision: the directions are float32, as the frame stores them; the
+reflectance is computed in float64 from the float32 cosine and rounded to
+float32 once. The twin in :mod:`sunset.light.paths_numba` does the same
+operations in the same order, one pixel at a time, with no transcendental
+function but the square root (exact in IEEE arithmetic), so the two give
+identical bytes (tests).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..constants import CLOUD, PART_CLIFF, POST, SEA, SKY
+from ..kernels import twin
+
+__all__ = ["trace_paths", "reflectance64"]
+
+_f = np.float32
+
+
+def reflectance64(c, n: float) -> np.ndarray:
+    """Unpolarised Fresnel reflectance, float64, of float cosines ``c`` (clipped to [0, 1]), spelt out.
+
+    (R_s + R_p)/2 with R_s = ((c − n c_t)/(c + n c_t))², R_p = ((n c − c_t)/(n c + c_t))²,
+    c_t = √(1 − (1 − c²)/n²): :func:`sunset.light.fresnel.fresnel`, written with products
+    instead of powers so that the twin repeats it exactly.
+    """
+    c = np.minimum(np.maximum(np.asarray(c, np.float64), 0.0), 1.0)
+    ct = np.sqrt(1.0 - (1.0 - c * c) / (n * n))
+    s = (c - n * ct) / (c + n * ct)
+    p = (n * c - ct) / (n * c + ct)
+    return 0.5 * (s * s + p * p)
+
+
+def _clip32(x):
+    return np.minimum(np.maximum(x, _f(0)), _f(1))
+
+
+def _layer(incident, normal, cos_i, before, n: float):
+    """Up direction (M, 3) and weight (M,) float32 of the water seen at one bounce, and the bounce's R (float32)."""
+    n32 = _f(n)
+    c = _clip32(cos_i)
+    ct = np.sqrt(_f(1) - (_f(1) - c * c) / (n32 * n32))
+    k = c / n32 - ct
+    t0 = incident[:, 0] / n32 + k * normal[:, 0]
+    t1 = incident[:, 1] / n32 + k * normal[:, 1]
+    t2 = incident[:, 2] / n32 + k * normal[:, 2]
+    length = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+    up = np.stack([-t0 / length, -t1 / length, -t2 / length], axis=-1)
+    r = reflectance64(cos_i, n)
+    weight = before * ((1.0 - r) / (n * n)).astype(np.float32)
+    return up, weight, r.astype(np.float32)
+
+
+@twin("sunset.light.paths_numba")
+def trace_paths(surface, final_surface, final_part, final_normal, direction, normal, incidence, sea_rays,
+                n: float):
+    """The paths of P pixels (flat arrays of a strip of a frame).
+
+    Parameters
+    ----------
+    surface, final_surface, final_part : (P,) int8
+    final_normal, direction, normal : (P, 3) float32
+    incidence : (P, 2) float32
+    sea_rays : (P, 2, 3) float32
+        The frame's fields (:class:`~sunset.vector.frame.Frame`), flattened.
+    n : float
+        The water's refractive index.
+
+    Returns
+    -------
+    kind : (P,) int8
+    final_normal : (P, 3) float32, NaN made 0
+    throughput : (P,) float32
+    layers : tuple of three (index (M,) intp, up (M, 3) float32, weight (M,) float32)
+        The water of the first bounce, the second and the fold; ``index``
+        ascending within each.
+    """
+    kind = np.where((final_surface == SKY) | (final_surface == CLOUD), SKY,
+                    np.where(final_surface == POST, PART_CLIFF, final_part)).astype(np.int8)
+    nrm = np.where(np.isnan(final_normal), _f(0), final_normal).astype(np.float32)
+    throughput = np.ones(len(surface), np.float32)
+    sea = np.flatnonzero(surface == SEA)
+    inc = incidence[sea]
+    rays = sea_rays[sea]
+    # bounce 1: the eye's ray D on the wave's normal N1
+    up1, w1, r1 = _layer(direction[sea], normal[sea], inc[:, 0], np.ones(len(sea), np.float32), n)
+    t_sea = r1
+    # bounce 2: R1 on N2 = (R2 - R1)/|R2 - R1|
+    two = np.isfinite(inc[:, 1])
+    a, b = rays[two, 0], rays[two, 1]
+    d0, d1, d2 = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1], b[:, 2] - a[:, 2]
+    length = np.maximum(np.sqrt(d0 * d0 + d1 * d1 + d2 * d2), _f(1e-30))
+    n2 = np.stack([d0 / length, d1 / length, d2 / length], axis=-1)
+    up2, w2, r2 = _layer(a, n2, inc[two, 1], t_sea[two], n)
+    t_sea[two] = t_sea[two] * r2
+    # the fold: a ray still heading down reflects off the mean surface
+    last = np.where(two[:, None], rays[:, 1], rays[:, 0])
+    down = last[:, 2] < _f(0)
+    ld = last[down]
+    flat = np.zeros(ld.shape, np.float32)
+    flat[:, 2] = 1
+    up3, w3, r3 = _layer(ld, flat, -ld[:, 2], t_sea[down], n)
+    t_sea[down] = t_sea[down] * r3
+    throughput[sea] = t_sea
+    return kind, nrm, throughput, ((sea, up1, w1), (sea[two], up2, w2), (sea[down], up3, w3))
