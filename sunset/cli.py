@@ -374,16 +374,20 @@ def _cmd_player(args) -> None:
 
 def _rgb_film(scene, args, samples: int) -> None:
     """``film --shading rgb``: one cycle's geometry traced once, re-shaded per hour (:mod:`sunset.light.film`)."""
+    from .kernels import keep_freed_memory
     from .light.film import film_frames, trace_cycle
     from .recorder.film import FILM_CYCLES, _check_film, cycle_times, film_hours, write_video
+    from .tape.cycle import frame_workers
 
     _check_film(args.output, args.preview, args.from_hours, args.to_hours, FILM_CYCLES, args.fps)
-    geometries = trace_cycle(scene, cycle_times(scene, args.frames), args.reflections, samples,
-                             progress=not args.quiet)
+    keep_freed_memory()
+    times = cycle_times(scene, args.frames)
     hours = film_hours(args.from_hours, args.to_hours, FILM_CYCLES * args.frames)
+    workers = frame_workers(args.jobs, len(hours))                # --jobs: processes that shade the frames
+    geometries = trace_cycle(scene, times, args.reflections, samples, progress=not args.quiet)
     cam = scene.camera
-    write_video(film_frames(scene, geometries, hours, samples), len(hours), (cam.width, cam.height), args.output,
-                args.preview, fps=args.fps, progress=not args.quiet)
+    write_video(film_frames(scene, geometries, hours, samples, times=times, workers=workers), len(hours),
+                (cam.width, cam.height), args.output, args.preview, fps=args.fps, progress=not args.quiet)
 
 
 def _cmd_scene(args) -> None:

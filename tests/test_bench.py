@@ -141,3 +141,14 @@ def test_memory_film_look_povray_and_load_are_reported(report):
         assert (p["width"], p["height"]) == (36, 30) and p["seconds"] > 0
         assert p["ratio"] == pytest.approx(p["seconds"] / p["ours_s"])
         assert 0.9 < p["direct_agree"] <= 1.0
+
+
+def test_rgb_rows_split_the_four_sample_frame(report):
+    _, rep = report
+    rgb = {r["stage"]: r for r in rep["rows"] if r["what"] == "RGB 36x30"}
+    assert set(rgb) == {"shade stored frame", "light of one hour", "4-sample frame", "4-sample vector",
+                        "4-sample back end"}
+    whole, vector, back = (rgb[k]["runs_s"] for k in ("4-sample frame", "4-sample vector", "4-sample back end"))
+    assert len(whole) == len(vector) == len(back) == 1
+    for a, b, c in zip(whole, vector, back):
+        assert b > 0 and c > 0 and a == pytest.approx(b + c)

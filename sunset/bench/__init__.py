@@ -25,7 +25,9 @@ broken), the film's encoder settings against the old ones (time and PSNR),
 POV-Ray on the exported scene at the frame's size when ``povray`` is
 installed, and the machine's load average before and after (the machine may
 be shared: the ratios in one run are what to read). And Stokes' series by
-computer, exact and in float64 (:mod:`sunset.bench.series`).
+computer, exact and in float64 (:mod:`sunset.bench.series`). And the RGB
+back end (:mod:`sunset.bench.rgb`): re-shading a stored frame, the light of
+an hour, and a 4-sample frame, split into its vector stage and the back end.
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ from pathlib import Path
 
 from ..constants import CRAY1_SECONDS_FIGURE6
 from . import extra
+from . import rgb as rgb_bench
 from . import series as stokes_bench
 
 #: Repeats per measurement (after one warm-up run).
@@ -249,27 +252,8 @@ def _function_name(file: str, name: str) -> str:
     return m.group(1) if m else name
 
 
-def _measure_rgb(width: int, height: int, repeats: int) -> dict:
-    """The RGB back end (:mod:`sunset.light`): re-shading a stored frame, one hour's light, a 4-sample frame.
-
-    As the ``sunset`` command does for it, the allocator keeps freed blocks (:func:`sunset.kernels.keep_freed_memory`).
-    """
-    from ..kernels import keep_freed_memory
-    from ..light.lighting import Lighting
-    from ..light.render import shade_display, trace_geometry
-    from ..model.scene import Scene
-
-    keep_freed_memory()
-    scene = Scene.default().with_size(width, height)
-    geometry = trace_geometry(scene, 0.0, 2)
-    light = Lighting.for_hour(scene.sun, 0.35)
-    return {"shade stored frame": _timed(lambda: shade_display(geometry, light), repeats),
-            "light of one hour": _timed(lambda: Lighting.for_hour(scene.sun, 0.5), repeats),
-            "4-sample frame": _timed(lambda: shade_display(trace_geometry(scene, 0.0, 2, 4), light, 2), repeats)}
-
-
 MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
-                "scaling": _measure_scaling, "profile": _measure_profile, "rgb": _measure_rgb,
+                "scaling": _measure_scaling, "profile": _measure_profile, "rgb": rgb_bench.measure_rgb,
                 "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits,
                 "series": stokes_bench.measure_series}
 

@@ -6,8 +6,18 @@ the :class:`~sunset.light.geometry.Geometry` of each frame of one wave cycle
 is kept, and film frame j shows cycle frame j mod N shaded by the light of its
 own hour (:class:`~sunset.light.lighting.Lighting`). No ray is traced twice;
 per film frame only the hour's light (its sky grid) and the shading are
-computed. The geometries are held in memory, so their size is bounded
-(:data:`MAX_GEOMETRY_BYTES`). ``sunset film --shading rgb`` puts these
+computed: the light of its hour (:func:`sunset.light.render.frame_light`, with
+the ripples on the posts at its cycle frame's time, so that a film frame is
+the same bytes as the single frame ``sunset render --shading rgb`` makes for
+that time and hour) and the shading. The geometries are held in memory, so
+their size is bounded (:data:`MAX_GEOMETRY_BYTES`).
+
+What changes from film frame to film frame is only the hour (each has its
+own) and which stored geometry it shows, so the frames are independent:
+:func:`film_frames` shares them out to ``workers`` processes (``--jobs``),
+which inherit the cycle's geometries, and collects them in order; each frame
+is computed by the same code as in one process, so the film is the same bytes
+for any number of workers (tests). ``sunset film --shading rgb`` puts these
 together with the cycle's times and the film's hours and encoder.
 """
 
@@ -21,7 +31,7 @@ from .lighting import Lighting
 from .output import check_rgb_output, save_rgb, to_uint8
 from .render import check_samples, frame_light, shade_display, shade_scene_linear, trace_geometry
 
-__all__ = ["MAX_GEOMETRY_BYTES", "GEOMETRY_BYTES_PER_RAY", "write_rgb_frame", "trace_cycle", "film_frames"]
+__all__ = ["MAX_GEOMETRY_BYTES", "GEOMETRY_BYTES_PER_RAY", "write_rgb_frame", "trace_cycle", "film_frame", "film_frames"]
 
 #: Most bytes the stored geometries of one cycle may take.
 MAX_GEOMETRY_BYTES = 3 * 2**30
@@ -70,9 +80,91 @@ def trace_cycle(scene, times, reflections: int = 2, samples: int = 1, progress: 
     return out
 
 
-def film_frames(scene, geometries, hours, samples: int = 1):
-    """Yield an sRGB frame (H, W, 3) uint8 per entry of ``hours``: geometry j mod N shaded for hour j."""
-    k = check_samples(samples)
+#: What the film's worker processes share: the scene, the cycle's geometries and times, the hours, k.
+_FILM: dict = {}
+
+
+def film_frame(scene, geometries, times, hours, k: int, j: int):
+    """Film frame j, sRGB (H, W, 3) uint8: geometry j mod N, traced at ``times[j mod N]``, shaded for ``hours[j]``.
+
+    ``times`` None: the light of the hour alone (:meth:`Lighting.for_scene`, no ripples on the posts).
+    """
     n = len(geometries)
-    for j, h in enumerate(hours):
-        yield to_uint8(shade_display(geometries[j % n], Lighting.for_scene(scene, float(h)), k))
+    light = (Lighting.for_scene(scene, float(hours[j])) if times is None
+             else frame_light(scene, float(times[j % n]), float(hours[j])))
+    return to_uint8(shade_display(geometries[j % n], light, k))
+
+
+def _film_task(j: int):
+    from ..kernels import use_threads
+
+    with use_threads(1):                  # the frames run side by side in the processes, one thread each
+        return film_frame(_FILM["scene"], _FILM["geometries"], _FILM["times"], _FILM["hours"], _FILM["k"], j)
+
+
+def _start_film_worker(state) -> None:
+    import signal
+
+    # Ctrl-C reaches the whole process group: only the parent reports it and stops the film
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_IGN)
+    if state is not None:                 # a spawned worker gets the state pickled; a forked one has it already
+        _FILM.update(state)
+
+
+def film_frames(scene, geometries, hours, samples: int = 1, times=None, workers: int = 1):
+    """Yield an sRGB frame (H, W, 3) uint8 per entry of ``hours``: geometry j mod N shaded for hour j.
+
+    Parameters
+    ----------
+    times : sequence of float, optional
+        The cycle's times, one per geometry: each frame then gets the ripples
+        of light on the posts at its time (:func:`film_frame`).
+    workers : int
+        Processes that shade the frames (1: here, one after the other). They
+        are forked where the platform allows and inherit the geometries; at
+        most 2 × ``workers`` frames are in flight, so memory stays bounded.
+    """
+    import multiprocessing
+    import sys
+    from collections import deque
+    from concurrent.futures import ProcessPoolExecutor
+
+    k = check_samples(samples)
+    require_int_range("workers", workers, 1)
+    hours = [float(h) for h in hours]
+    if times is not None:
+        times = [float(t) for t in times]
+        if len(times) != len(geometries):
+            raise SunsetError(f"film: {len(times)} times for {len(geometries)} geometries")
+    n = min(int(workers), len(hours))
+    if n <= 1:
+        for j in range(len(hours)):
+            yield film_frame(scene, geometries, times, hours, k, j)
+        return
+    state = {"scene": scene, "geometries": geometries, "times": times, "hours": hours, "k": k}
+    methods = multiprocessing.get_all_start_methods()
+    fork = "fork" in methods and sys.version_info < (3, 12)      # as sunset.tape.cycle.code_frames chooses
+    method = "fork" if fork else ("forkserver" if "forkserver" in methods else "spawn")
+    _FILM.clear()
+    _FILM.update(state)
+    pool = ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method),
+                               initializer=_start_film_worker, initargs=(None if fork else state,))
+    try:
+        pending = deque()
+        following = 0
+        while following < len(hours) and len(pending) < 2 * n:
+            pending.append(pool.submit(_film_task, following))
+            following += 1
+        while pending:
+            yield pending.popleft().result()
+            if following < len(hours):
+                pending.append(pool.submit(_film_task, following))
+                following += 1
+    except BaseException:                 # Ctrl-C, an error, the consumer gone: no new frames
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    finally:
+        _FILM.clear()
+    pool.shutdown(wait=True)

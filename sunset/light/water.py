@@ -54,7 +54,16 @@ Data, each number's source
 * absorption a_w(λ) of pure water, 380–720 nm: Pope & Fry (1997), Table 3,
   at 10 nm; 730–780 nm: Smith & Baker (1981), Table 1 (Pope & Fry end at
   727.5 nm). Salt changes the absorption of water in the visible by less than
-  the measurement's uncertainty, so it serves for sea water (Pope & Fry 1997);
+  the measurement's uncertainty, so it serves for sea water (Pope & Fry 1997).
+  Checked value by value, all 41 of them, against a published transcription of
+  Pope & Fry's table (every 2.5 nm, in m⁻¹, with Smith & Baker's values beyond
+  727.5 nm): ``data/pope97.dat`` of the GitHub repository
+  cilori/primary_production_satellite (commit 8a326a5), headed "R. M. Pope and
+  E. S. Fry, Absorption spectrum (380–700 nm) of pure water. II. Integrating
+  cavity measurements, Appl. Opt. 36, 8710–8723 (1997)"; the values agree to
+  the last digit given (``tests/light/test_water.py`` holds a copy
+  of that file's 10 nm rows). That is a check against a copy of the
+  paper's table, not against the paper itself, which was not at hand;
 * scattering of pure sea water (35–39 ‰): b_sw(λ) = 0.00288 m⁻¹ (λ/500 nm)^−4.32,
   Morel (1974), as tabulated by Smith & Baker (1981) and Mobley (1994, Table 3.8);
 * its phase function p(ψ) = (1 + 0.835 cos²ψ)/(4π (1 + 0.835/3)) =

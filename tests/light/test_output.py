@@ -90,3 +90,14 @@ def test_cli_rgb_film(tmp_path):
     assert (tmp_path / "f.mp4").stat().st_size > 0 and (tmp_path / "f.gif").stat().st_size > 0
     assert main(["film", "carlas-island", "--shading", "rgb", "--tape", str(tmp_path / "t"), "-o",
                  str(tmp_path / "g.mp4")]) == 2
+
+
+def test_cli_rgb_film_takes_jobs(tmp_path):
+    outs = []
+    for jobs in ("1", "2"):
+        out = tmp_path / f"f{jobs}.mp4"
+        assert main(["film", "carlas-island", "--shading", "rgb", "--frames", "2", "--size", "16x12", "--quiet",
+                     "--jobs", jobs, "-o", str(out)]) == 0
+        outs.append(out.read_bytes())
+    assert outs[0] == outs[1]
+    assert main(["film", "carlas-island", "--shading", "rgb", "--jobs", "0", "-o", str(tmp_path / "g.mp4")]) == 2

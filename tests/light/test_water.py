@@ -72,3 +72,21 @@ def test_mean_cosine_in_the_water():
 def test_shapes(shape):
     assert np.shape(water.upwelling(np.full(shape, 0.5), 0.8, np.full(shape, 0.1))) == shape
     assert np.shape(water.refracted_cosine(np.full(shape, 0.5))) == shape
+
+
+#: The 10 nm rows of a published transcription of Pope & Fry (1997), Table 3 (m⁻¹), with Smith & Baker (1981)
+#: beyond 727.5 nm: data/pope97.dat of github.com/cilori/primary_production_satellite (commit 8a326a5).
+POPE97_TRANSCRIPTION = {
+    380: 0.01137, 390: 0.00851, 400: 0.00663, 410: 0.00473, 420: 0.00454, 430: 0.00495, 440: 0.00635,
+    450: 0.00922, 460: 0.00979, 470: 0.0106, 480: 0.0127, 490: 0.015, 500: 0.0204, 510: 0.0325, 520: 0.0409,
+    530: 0.0434, 540: 0.0474, 550: 0.0565, 560: 0.0619, 570: 0.0695, 580: 0.0896, 590: 0.1351, 600: 0.2224,
+    610: 0.2644, 620: 0.2755, 630: 0.2916, 640: 0.3108, 650: 0.34, 660: 0.41, 670: 0.439, 680: 0.465,
+    690: 0.516, 700: 0.624, 710: 0.827, 720: 1.231, 730: 1.799, 740: 2.38, 750: 2.47, 760: 2.55, 770: 2.51,
+    780: 2.36,
+}
+
+
+def test_absorption_is_the_published_table_value_by_value():
+    assert tuple(POPE97_TRANSCRIPTION) == water.ABSORPTION_NM
+    np.testing.assert_array_equal(water.ABSORPTION, tuple(POPE97_TRANSCRIPTION.values()))
+    np.testing.assert_array_equal(water.absorption(list(POPE97_TRANSCRIPTION)), list(POPE97_TRANSCRIPTION.values()))

@@ -1,0 +1,43 @@
+"""The RGB film: its frames are the single frames of their times and hours, the same bytes on any number of workers."""
+
+import numpy as np
+import pytest
+
+from sunset.light.film import film_frames, trace_cycle
+from sunset.light.output import to_uint8
+from sunset.light.render import frame_light, shade_display, trace_geometry
+from sunset.model.scene import load_named_scene
+from sunset.recorder.film import cycle_times, film_hours
+
+
+@pytest.fixture(scope="module")
+def cycle():
+    scene = load_named_scene("post-in-the-swell").with_size(24, 20)
+    times = cycle_times(scene, 2)
+    return scene, times, trace_cycle(scene, times, 2, 1, progress=False), film_hours(0.6, 0.1, 5)
+
+
+def test_a_film_frame_is_the_single_frame_of_its_time_and_hour(cycle):
+    scene, times, geometries, hours = cycle
+    frames = list(film_frames(scene, geometries, hours, times=times))
+    assert len(frames) == len(hours)
+    for j in (0, 3):
+        t = times[j % len(times)]
+        want = to_uint8(shade_display(trace_geometry(scene, t, 2, 1), frame_light(scene, t, hours[j])))
+        assert frames[j].dtype == np.uint8 and frames[j].tobytes() == want.tobytes()
+    assert frames[0].tobytes() != frames[2].tobytes()             # the same geometry, another hour
+
+
+def test_the_film_is_the_same_bytes_on_two_workers(cycle):
+    scene, times, geometries, hours = cycle
+    one = list(film_frames(scene, geometries, hours, times=times, workers=1))
+    two = list(film_frames(scene, geometries, hours, times=times, workers=2))
+    assert [f.tobytes() for f in one] == [f.tobytes() for f in two]
+
+
+def test_the_film_stops_cleanly_when_its_reader_does(cycle):
+    scene, times, geometries, hours = cycle
+    frames = film_frames(scene, geometries, hours, times=times, workers=2)
+    first = next(frames)
+    frames.close()                                                  # the pool is shut down, no frame is lost
+    assert first.shape == (20, 24, 3)
