@@ -84,14 +84,27 @@ def trace_cycle(scene, times, reflections: int = 2, samples: int = 1, progress: 
 _FILM: dict = {}
 
 
-def film_frame(scene, geometries, times, hours, k: int, j: int):
+#: Most lights :func:`film_frames` keeps for frames that come back to the same time and hour.
+LIGHT_CACHE = 64
+
+
+def film_frame(scene, geometries, times, hours, k: int, j: int, lights: dict | None = None):
     """Film frame j, sRGB (H, W, 3) uint8: geometry j mod N, traced at ``times[j mod N]``, shaded for ``hours[j]``.
 
     ``times`` None: the light of the hour alone (:meth:`Lighting.for_scene`, no ripples on the posts).
+    ``lights``: a dict that keeps the light of each (time, hour) met, so that a film whose hours repeat (a
+    film at one hour) computes each light once (at most :data:`LIGHT_CACHE` of them).
     """
     n = len(geometries)
-    light = (Lighting.for_scene(scene, float(hours[j])) if times is None
-             else frame_light(scene, float(times[j % n]), float(hours[j])))
+    t = None if times is None else float(times[j % n])
+    key = (t, float(hours[j]))
+    light = None if lights is None else lights.get(key)
+    if light is None:
+        light = Lighting.for_scene(scene, key[1]) if t is None else frame_light(scene, t, key[1])
+        if lights is not None:
+            if len(lights) >= LIGHT_CACHE:
+                lights.pop(next(iter(lights)))
+            lights[key] = light
     return to_uint8(shade_display(geometries[j % n], light, k))
 
 
@@ -99,7 +112,8 @@ def _film_task(j: int):
     from ..kernels import use_threads
 
     with use_threads(1):                  # the frames run side by side in the processes, one thread each
-        return film_frame(_FILM["scene"], _FILM["geometries"], _FILM["times"], _FILM["hours"], _FILM["k"], j)
+        return film_frame(_FILM["scene"], _FILM["geometries"], _FILM["times"], _FILM["hours"], _FILM["k"], j,
+                          _FILM.setdefault("lights", {}))
 
 
 def _start_film_worker(state) -> None:
@@ -140,8 +154,9 @@ def film_frames(scene, geometries, hours, samples: int = 1, times=None, workers:
             raise SunsetError(f"film: {len(times)} times for {len(geometries)} geometries")
     n = min(int(workers), len(hours))
     if n <= 1:
+        lights: dict = {}
         for j in range(len(hours)):
-            yield film_frame(scene, geometries, times, hours, k, j)
+            yield film_frame(scene, geometries, times, hours, k, j, lights)
         return
     state = {"scene": scene, "geometries": geometries, "times": times, "hours": hours, "k": k}
     methods = multiprocessing.get_all_start_methods()

@@ -54,6 +54,7 @@ def test_one_sample_per_pixel_is_deterministic():
 def test_bench_measures_the_rgb_back_end():
     from sunset import bench
 
-    times = bench._measure_rgb(24, 20, 1)
-    assert set(times) == {"shade stored frame", "light of one hour", "4-sample frame"}
+    times = bench.rgb_bench.measure_rgb(24, 20, 1)
+    assert set(times) == {"shade stored frame", "light of one hour", "4-sample frame", "4-sample vector",
+                          "4-sample back end"}
     assert all(len(v) == 1 and v[0] > 0 for v in times.values())

@@ -41,3 +41,15 @@ def test_the_film_stops_cleanly_when_its_reader_does(cycle):
     first = next(frames)
     frames.close()                                                  # the pool is shut down, no frame is lost
     assert first.shape == (20, 24, 3)
+
+
+def test_a_film_at_one_hour_computes_each_light_once(cycle, monkeypatch):
+    import sunset.light.film as film
+
+    scene, times, geometries, _ = cycle
+    made = []
+    real = film.frame_light
+    monkeypatch.setattr(film, "frame_light", lambda *a: made.append(a) or real(*a))
+    frames = list(film_frames(scene, geometries, [0.3] * 6, times=times))
+    assert len(made) == len(times) == 2
+    assert [f.tobytes() for f in frames[:2]] == [f.tobytes() for f in frames[2:4]]
