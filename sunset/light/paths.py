@@ -54,7 +54,10 @@ def _clip32(x):
 
 
 def _layer(incident, normal, cos_i, before, n: float):
-    """Up direction (M, 3) and weight (M,) float32 of the water seen at one bounce, and the bounce's R (float32)."""
+    """The water seen at one bounce: up (M, 3), weight (M,) and R (M,), float32.
+
+    ``up`` is the refracted ray reversed, ``weight`` = before × (1 − R)/n².
+    """
     n32 = _f(n)
     c = _clip32(cos_i)
     ct = np.sqrt(_f(1) - (_f(1) - c * c) / (n32 * n32))
