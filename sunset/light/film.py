@@ -127,6 +127,28 @@ def _start_film_worker(state) -> None:
         _FILM.update(state)
 
 
+def _workers_within_budget(n: int, geometries) -> int:
+    """At most ``n`` workers that, each shading one frame, keep the film within MAX_FRAME_BYTES.
+
+    The cycle's geometries are held once (the workers are forked and share them); each worker adds one
+    frame's light and shading (:func:`sunset.light.budget.rgb_bytes` with no geometry kept), and its own copy
+    of the geometries where the workers cannot be forked. A large film is shaded by fewer processes rather
+    than by more memory than the budget.
+    """
+    import multiprocessing
+    import sys
+
+    from ..constants import MAX_FRAME_BYTES, RGB_BYTES_PER_RAY, RGB_LIGHT_BYTES
+
+    if n <= 1 or not geometries:
+        return max(1, n)
+    kept = sum(g.nbytes for g in geometries)
+    per_worker = RGB_LIGHT_BYTES + geometries[0].final_kind.size * RGB_BYTES_PER_RAY
+    if not ("fork" in multiprocessing.get_all_start_methods() and sys.version_info < (3, 12)):
+        per_worker += kept
+    return max(1, min(n, (MAX_FRAME_BYTES - kept) // per_worker))
+
+
 def film_frames(scene, geometries, hours, samples: int = 1, times=None, workers: int = 1):
     """Yield an sRGB frame (H, W, 3) uint8 per entry of ``hours``: geometry j mod N shaded for hour j.
 
@@ -138,7 +160,8 @@ def film_frames(scene, geometries, hours, samples: int = 1, times=None, workers:
     workers : int
         Processes that shade the frames (1: here, one after the other). They
         are forked where the platform allows and inherit the geometries; at
-        most 2 × ``workers`` frames are in flight, so memory stays bounded.
+        most 2 × ``workers`` frames are in flight, and no more workers run
+        than the memory budget allows (:func:`_workers_within_budget`).
     """
     import multiprocessing
     import sys
@@ -152,7 +175,7 @@ def film_frames(scene, geometries, hours, samples: int = 1, times=None, workers:
         times = [float(t) for t in times]
         if len(times) != len(geometries):
             raise SunsetError(f"film: {len(times)} times for {len(geometries)} geometries")
-    n = min(int(workers), len(hours))
+    n = _workers_within_budget(min(int(workers), len(hours)), geometries)
     if n <= 1:
         lights: dict = {}
         for j in range(len(hours)):

@@ -117,7 +117,8 @@ class Geometry:
         handed to the threads; each strip's paths are the kernel
         :func:`sunset.light.paths.trace_paths` (NumPy, or its Numba twin), and the
         strips' lists are joined in order, so the geometry is the same bytes
-        for any number of threads.
+        for any number of threads. ``final_dir`` is the frame's ``ray`` array
+        itself (a view, not a copy).
         """
         if frame.final_surface is None or frame.incidence is None:
             raise SunsetError("the frame has no reflected rays: render it with sunset.render first")
@@ -142,7 +143,7 @@ class Geometry:
             return out
 
         strips = run_strips(rows, row_strips(h, w))
-        join = lambda key, empty: np.concatenate([s[key] for s in strips]) if strips else empty  # noqa: E731
+        join = lambda key: np.concatenate([s[key] for s in strips])  # noqa: E731
         layers = [tuple(np.concatenate([s["layers"][k][j] for s in strips]) for j in range(3)) for k in range(3)]
         w_index = np.concatenate([layer[0] for layer in layers])
         w_up = np.ascontiguousarray(np.concatenate([layer[1] for layer in layers]))
@@ -152,14 +153,14 @@ class Geometry:
         mu_bar = diffuse_mean_cosine(n)
         w_sky = (w_weight.astype(np.float64) / (4.0 * np.pi) / (mu_bar + w_mu.astype(np.float64))).astype(np.float32)
         return cls(shape=(h, w), final_dir=final_dir, final_kind=kind, throughput=throughput,
-                   sky_index=join("sky_index", None), sky_dir=join("sky_dir", None), sky_r0=join("sky_r0", None),
-                   sky_fr=join("sky_fr", None), sky_azimuth=join("sky_azimuth", None),
-                   island_index=join("island_index", None), island_normal=join("island_normal", None),
-                   island_g=join("island_g", None),
-                   island_f=join("island_f", None), water_starts=starts, water_index=w_index, water_up=w_up,
+                   sky_index=join("sky_index"), sky_dir=join("sky_dir"), sky_r0=join("sky_r0"),
+                   sky_fr=join("sky_fr"), sky_azimuth=join("sky_azimuth"),
+                   island_index=join("island_index"), island_normal=join("island_normal"),
+                   island_g=join("island_g"),
+                   island_f=join("island_f"), water_starts=starts, water_index=w_index, water_up=w_up,
                    water_mu=w_mu, water_weight=w_weight, water_sky=w_sky, n=float(n),
-                   sky_cloud=None if depth is None else join("sky_cloud", None),
-                   island_point=join("island_point", None))
+                   sky_cloud=None if depth is None else join("sky_cloud"),
+                   island_point=join("island_point"))
 
 
 def _lookups(part: dict, kind, normal, offset: int, depth) -> dict:

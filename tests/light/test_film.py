@@ -53,3 +53,14 @@ def test_a_film_at_one_hour_computes_each_light_once(cycle, monkeypatch):
     frames = list(film_frames(scene, geometries, [0.3] * 6, times=times))
     assert len(made) == len(times) == 2
     assert [f.tobytes() for f in frames[:2]] == [f.tobytes() for f in frames[2:4]]
+
+
+def test_no_more_film_workers_than_the_memory_budget_allows(cycle, monkeypatch):
+    import sunset.constants as constants
+    from sunset.light.film import _workers_within_budget
+
+    _, _, geometries, _ = cycle
+    assert _workers_within_budget(2, geometries) == 2
+    kept = sum(g.nbytes for g in geometries)
+    monkeypatch.setattr(constants, "MAX_FRAME_BYTES", kept + constants.RGB_LIGHT_BYTES + 10**6)
+    assert _workers_within_budget(4, geometries) == 1
