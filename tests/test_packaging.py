@@ -143,9 +143,16 @@ def test_readme_says_whether_the_urls_resolve_yet():
 
 @pytest.mark.parametrize("path", ["environment.yml", "Makefile", "CITATION.cff", "requirements/test.lock",
                                   "requirements/book.lock", "requirements/runtime.lock",
-                                  "book/images/fig6-510x512.png", "book/api.md", "tests/test_lock.py"])
+                                  "book/images/fig6-510x512.png", "book/api.md", "tests/test_lock.py",
+                                  "book/_config.yml", "book/_toc.yml", "book/_ext/numbers_sci.py", "book/intro.md",
+                                  "book/symbols.md", "book/browser_check.py", "book/_static/sunset.css",
+                                  "book/01-camera.md", "book/references.bib", "book/build.py"])
 def test_the_sdist_carries_what_the_tests_read(path):
-    """MANIFEST.in includes every file that the tests open (pyproject, README and LICENSE go in by themselves)."""
+    """MANIFEST.in includes every file that the tests open (pyproject, README and LICENSE go in by themselves).
+
+    The rules are applied in order, as setuptools does: include, recursive-include,
+    graft, then prune and global-exclude take away.
+    """
     assert (ROOT / path).exists()
     manifest = (ROOT / "MANIFEST.in").read_text(encoding="utf-8")
     rules = [line.split() for line in manifest.splitlines() if line.strip() and not line.startswith("#")]
@@ -156,4 +163,10 @@ def test_the_sdist_carries_what_the_tests_read(path):
         elif rule[0] == "recursive-include" and path.startswith(rule[1] + "/") and any(
                 Path(path).match(p) for p in rule[2:]):
             covered = True
+        elif rule[0] == "graft" and path.startswith(rule[1] + "/"):
+            covered = True
+        elif rule[0] == "prune" and path.startswith(rule[1] + "/"):
+            covered = False
+        elif rule[0] == "global-exclude" and any(Path(path).match(p) for p in rule[1:]):
+            covered = False
     assert covered, f"MANIFEST.in does not ship {path}"

@@ -22,7 +22,6 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
-from scipy.interpolate import pade as _scipy_pade
 from scipy.optimize import minimize_scalar
 
 from ..constants import STOKES_MAX_STEEPNESS, STOKES_SERIES_MAX_ORDER_EXACT, STOKES_SERIES_MAX_ORDER_FLOAT
@@ -30,7 +29,7 @@ from ..errors import SunsetError, require_finite, require_int_range
 from .series_recurrence import Ring, compose, conformal_rows, eulerian_amplitude, inverse, join, modes, mul, \
     pair_powers, revert, sqrt
 
-__all__ = ["StokesSeries", "stokes_series", "DombSykes", "domb_sykes", "SeriesWave"]
+__all__ = ["StokesSeries", "stokes_series", "DombSykes", "domb_sykes", "SeriesWave", "pade_coefficients"]
 
 #: Expansion parameters: α = k a₁ (the paper's), ε = kH/2, ω = 1 − q_crest²/c² (Longuet-Higgins).
 PARAMETERS = ("alpha", "epsilon", "omega")
@@ -56,6 +55,32 @@ class SeriesWave(NamedTuple):
     def alpha(self) -> float:
         """α = k a₁."""
         return float(self.amplitudes[0])
+
+
+def pade_coefficients(an, m: int, n: int) -> tuple[np.poly1d, np.poly1d]:
+    """The Padé approximant p/q of the power series with coefficients ``an``: q of degree m, p of degree n.
+
+    p and q (q(0) = 1) are fixed by the Taylor coefficients of q·f − p
+    vanishing through order m + n, one linear system of m + n + 1 equations
+    in the coefficients of p and q₁ … q_m: the construction of
+    ``scipy.interpolate.pade`` (deprecated in SciPy 1.18, removed in 1.20),
+    solved the same way, so the results are the same to the last bit.
+
+    Returns
+    -------
+    p, q : numpy.poly1d
+    """
+    an = np.asarray(an, dtype=float)
+    N = m + n
+    if m < 0 or n < 0 or N > len(an) - 1:
+        raise SunsetError(f"a Padé approximant of degrees {n}/{m} needs {N + 1} coefficients, got {len(an)}")
+    an = an[: N + 1]
+    rows = np.zeros((N + 1, m))
+    for row in range(1, N + 1):
+        k = min(row, m)
+        rows[row, :k] = -an[row - k:row][::-1]
+    pq = scipy.linalg.solve(np.hstack((np.eye(N + 1, n + 1), rows)), an)
+    return np.poly1d(pq[: n + 1][::-1]), np.poly1d(np.r_[1.0, pq[n + 1:]][::-1])
 
 
 class StokesSeries:
@@ -214,7 +239,7 @@ class StokesSeries:
              terms: int | None = None):
         """The diagonal Padé approximant of ``quantity``'s series, evaluated at x.
 
-        Built with ``scipy.interpolate.pade`` from the first ``terms`` + 1
+        Built with :func:`pade_coefficients` from the first ``terms`` + 1
         coefficients. A series that is even or odd (the speed and the
         amplitudes in α or ε) is continued in x², so that the approximant
         keeps that symmetry. Padé's linear system is badly conditioned at high
@@ -236,7 +261,7 @@ class StokesSeries:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
             if N >= 1:
-                p, q = _scipy_pade(g, N // 2, N - N // 2)
+                p, q = pade_coefficients(g, N // 2, N - N // 2)
             else:
                 p, q = np.poly1d(g), np.poly1d([1.0])
         t = X**stride / scale
