@@ -109,9 +109,9 @@ def test_environment_is_named_after_the_distribution_and_lists_everything():
 
 
 @pytest.mark.parametrize("edit, words", [
-    (lambda t: t.replace("  - scipy>=1.11\n", ""), "environment.yml lacks it"),
-    (lambda t: t.replace("  - scipy>=1.11\n", "  - scipy>=1.12\n"), "environment.yml has scipy>=1.12"),
-    (lambda t: t.replace("  - scipy>=1.11\n", "  - scipy>=1.11\n  - pandas\n"), "pyproject.toml lacks it"),
+    (lambda t: t.replace("  - scipy>=1.13\n", ""), "environment.yml lacks it"),
+    (lambda t: t.replace("  - scipy>=1.13\n", "  - scipy>=1.14\n"), "environment.yml has scipy>=1.14"),
+    (lambda t: t.replace("  - scipy>=1.13\n", "  - scipy>=1.13\n  - pandas\n"), "pyproject.toml lacks it"),
     (lambda t: t.replace("  - jupyter-book>=1,<2\n", "  - jupyter-book<2,>=1\n"), None),  # same set
     (lambda t: t.replace("  - python>=3.11\n", "  - python>=3.10\n"), "python:"),
     (lambda t: t.replace("      - sphinx-mathjax-offline>=0.0.2\n", ""), "sphinx-mathjax-offline"),

@@ -170,3 +170,17 @@ def test_the_sdist_carries_what_the_tests_read(path):
         elif rule[0] == "global-exclude" and any(Path(path).match(p) for p in rule[1:]):
             covered = False
     assert covered, f"MANIFEST.in does not ship {path}"
+
+
+def test_the_classifiers_claim_only_the_pythons_the_readme_reports_tested():
+    """Each 'Python :: 3.X' classifier names a version that README.md's section on tested Pythons reports a run
+    of the suite on, and requires-python starts at the lowest of them."""
+    claimed = sorted(c.rsplit(" :: ", 1)[1] for c in PROJECT["classifiers"]
+                     if re.fullmatch(r"Programming Language :: Python :: 3\.\d+", c))
+    assert claimed, "no Python version classifiers"
+    section = re.search(r"^### Which Pythons and which versions are tested\n(.+?)(?=^#)", README, re.S | re.M)
+    assert section, "README.md has no section on the tested Pythons"
+    text = " ".join(section.group(1).split())
+    for version in claimed:
+        assert re.search(rf"CPython {re.escape(version)}\.\d+", text), f"README reports no test run on {version}"
+    assert PROJECT["requires-python"] == f">={claimed[0]}"
