@@ -93,13 +93,14 @@ def render_rgb(scene, t: float = 0.0, hours: float = 0.35, samples: int = 1, ref
 
 def frame_light(scene, t: float, hours: float, shore: bool = False) -> Lighting:
     """The light of one frame: the hour's sky and sun, the scene's clouds, and the ripples of light on its
-    posts at time ``t`` (:func:`sunset.light.ripples.ripple_source`), which depend on the waves' time too.
+    posts at time ``t`` (:func:`sunset.light.ripples.ripple_source`), which depend on the waves' time too;
+    with the sun's centre below the horizon there is no sunlight for the waves to throw, and no ripples.
 
     With ``shore=True`` the islands' shores near the water line get the light the waves throw on them as well
     (:func:`sunset.light.shore.shore_source`, one light tracing per island: off by default, it costs seconds).
     """
     light = Lighting.for_scene(scene, hours)
-    if scene.posts:
+    if scene.posts and light.sun_dir[2] > 0.0:   # after sunset no sunlight reaches the waves: no ripples
         from .ripples import ripple_source
 
         light.extra_irradiance.append(ripple_source(scene, float(t), float(hours), light))

@@ -64,3 +64,10 @@ def test_no_more_film_workers_than_the_memory_budget_allows(cycle, monkeypatch):
     kept = sum(g.nbytes for g in geometries)
     monkeypatch.setattr(constants, "MAX_FRAME_BYTES", kept + constants.RGB_LIGHT_BYTES + 10**6)
     assert _workers_within_budget(4, geometries) == 1
+
+
+def test_a_film_of_posts_runs_past_sunset(cycle):
+    scene, times, geometries, _ = cycle
+    hours = [0.2, -0.25]                       # the default film ends a quarter of an hour after sunset
+    frames = list(film_frames(scene, geometries, hours, times=times))
+    assert len(frames) == 2 and frames[1].tobytes() != frames[0].tobytes()
