@@ -281,6 +281,15 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _check_hours(args) -> None:
+    """--hours, --from-hours and --to-hours within ±12 h of sunset, named as the user typed them."""
+    from .model.sun import require_hours
+
+    for name in ("hours", "from_hours", "to_hours"):
+        if getattr(args, name, None) is not None:
+            require_hours("--" + name.replace("_", "-"), getattr(args, name))
+
+
 def _cmd_figures(args) -> None:
     from .figures import make_figures
 
@@ -295,6 +304,7 @@ def _cmd_render(args) -> None:
     from .io import PNG_SUFFIXES, all_or_nothing
 
     samples = _check_shading(args)
+    _check_hours(args)                                 # before the long work
     if args.shading == "rgb":
         return _cmd_render_rgb(args, samples)
     _outputs({"-o": args.output, "--tape": args.tape}, {"-o": PNG_SUFFIXES},   # before the long work
@@ -341,6 +351,7 @@ def _cmd_expose(args) -> None:
     from .io import PNG_SUFFIXES
     from .tape.tapefile import read_tape
 
+    _check_hours(args)
     _outputs({"-o": args.output}, {"-o": PNG_SUFFIXES}, {"the tape": args.tape})
     tape = read_tape(args.tape)
     expose_png(tape, args.hours, Path(args.output), frame=args.frame)
@@ -350,6 +361,7 @@ def _cmd_film(args) -> None:
     from .recorder.film import FILM_SUFFIXES, PREVIEW_SUFFIXES, make_film
 
     samples = _check_shading(args)
+    _check_hours(args)
     _outputs({"-o": args.output, "--preview": args.preview, "--tape": args.tape},
              {"-o": FILM_SUFFIXES, "--preview": PREVIEW_SUFFIXES}, {"the scene": _scene_path(args.scene)})
     scene = _load_scene(args.scene)
@@ -366,6 +378,7 @@ def _cmd_film(args) -> None:
 def _cmd_player(args) -> None:
     from .recorder.player import HTML_SUFFIXES, write_player
 
+    _check_hours(args)
     _outputs({"-o": args.output}, {"-o": HTML_SUFFIXES}, {"the scene": _scene_path(args.scene)})   # before the work
     scene = _load_scene(args.scene)
     write_player(scene, args.output, frames=args.frames, size=args.size, from_hours=args.from_hours,

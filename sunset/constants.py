@@ -14,6 +14,8 @@ GRAVITY = 9.80665
 #: Hour angle rate of the sun: 2π/24 radians per hour, i.e. 15° per hour
 #: (the paper's garbled "2π/2μ", READING-NOTES.md).
 RADIANS_PER_HOUR = 2.0 * math.pi / 24.0
+#: The range of "hours before sunset" a user may ask for: half the sun's 24-hour circle either side.
+MAX_HOURS_FROM_SUNSET = 12.0
 
 #: The sun's true angular radius, about 0.267°, in radians.
 SUN_TRUE_RADIUS = math.radians(0.2666)

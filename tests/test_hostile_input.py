@@ -731,3 +731,40 @@ def test_export_refuses_to_overwrite_its_scene(capsys, tmp_path):
     assert scene.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["link.pov", "scene.pov"]
     assert run(capsys, "export", "pov", scene, "-o", tmp_path / "out.pov")[0] == 0
+
+
+# ---------------------------------------------------------------- hours before sunset: ±12 h everywhere
+@pytest.mark.parametrize("argv, option", [
+    (["render", "carlas-island", "--hours", "13", "--size", SMALL], "--hours"),
+    (["render", "carlas-island", "--hours", "-1e300", "--shading", "rgb", "--size", SMALL], "--hours"),
+    (["film", "carlas-island", "--from-hours", "100000", "--frames", "2", "--size", SMALL], "--from-hours"),
+    (["film", "carlas-island", "--to-hours", "-12.5", "--frames", "2", "--size", SMALL], "--to-hours"),
+    (["film", "carlas-island", "--to-hours", "12.01", "--shading", "rgb", "--frames", "2", "--size", SMALL],
+     "--to-hours"),
+    (["player", "carlas-island", "--from-hours", "13", "--frames", "2", "--size", SMALL], "--from-hours"),
+])
+def test_hours_beyond_half_a_day_of_sunset_are_refused_before_any_work(capsys, tmp_path, monkeypatch, argv,
+                                                                         option):
+    # the sun goes round its circle in 24 h: every position is within ±12 h of sunset; tracing must not start
+    import sunset.vector.render as vr
+
+    monkeypatch.setattr(vr, "render", lambda *a, **k: pytest.fail("rendered before the hours were checked"))
+    suffix = {"render": ".png", "film": ".mp4", "player": ".html"}[argv[0]]
+    out = tmp_path / ("out" + suffix)
+    code, _, err = run(capsys, *argv, "-o", out)
+    one_line_error(code, err, option, "±12 hours")
+    assert not out.exists() and not leftovers(tmp_path)
+
+
+def test_expose_refuses_hours_beyond_half_a_day_before_reading_the_tape(capsys, tmp_path):
+    # the tape does not exist: the hours are checked first
+    code, _, err = run(capsys, "expose", tmp_path / "no.tape", "--hours", "-40", "-o", tmp_path / "e.png")
+    one_line_error(code, err, "--hours", "±12 hours")
+
+
+@pytest.mark.parametrize("hours", [12.0, -12.0, 0.0])
+def test_hours_at_the_ends_of_the_half_day_are_pictures(capsys, tmp_path, hours):
+    out = tmp_path / "r.png"
+    code, _, err = run(capsys, "render", "carlas-island", "--hours", hours, "--size", SMALL, "-o", out, "--quiet")
+    assert code == 0, err
+    assert out.stat().st_size > 0

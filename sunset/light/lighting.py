@@ -45,7 +45,7 @@ from ..constants import ATMOSPHERE_TOP, CLOUD_TABLE_DEPTHS, WATER_REFRACTIVE_IND
 from ..model.eye import spectrum_to_xyz as _spectrum_to_xyz
 from ..model.sky import (direct_irradiance, irradiance, island_lighting, sky_dome, sky_radiance,
                        slant_columns, spectral_data, sun_radiance)
-from ..errors import require_finite
+from ..model.sun import require_hours
 from . import water
 from .fresnel import reflectance
 from .tone import exposure
@@ -156,7 +156,7 @@ class Lighting:
     @classmethod
     def for_hour(cls, sun, hours: float) -> "Lighting":
         """The light ``hours`` before sunset for a :class:`~sunset.model.sun.Sun`."""
-        require_finite("hours", hours)
+        require_hours("hours", hours)
         return cls.for_direction(sun.position(float(hours)), sun.delta)
 
     @classmethod

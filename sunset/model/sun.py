@@ -13,8 +13,23 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import MAX_DEGREES, MIN_SUN_RADIUS, RADIANS_PER_HOUR, SUN_PAPER_RADIUS_DEGREES
-from ..errors import SunsetError, require_finite, require_positive, require_range
+from ..constants import (MAX_DEGREES, MAX_HOURS_FROM_SUNSET, MIN_SUN_RADIUS, RADIANS_PER_HOUR,
+                         SUN_PAPER_RADIUS_DEGREES)
+from ..errors import SunsetError, require_finite, require_positive, require_range, shown
+
+
+def require_hours(name: str, hours) -> None:
+    """Raise :class:`SunsetError` unless every value of ``hours`` (hours before sunset) is within ±12 h.
+
+    The sun goes round its circle in 24 hours, so every position is reached
+    within half a day of sunset; a user's ``hours`` outside that range is a
+    mistake, not another picture. Scalars or arrays.
+    """
+    require_finite(name, hours)
+    worst = float(np.max(np.abs(np.asarray(hours, dtype=float)), initial=0.0))
+    if worst > MAX_HOURS_FROM_SUNSET:
+        raise SunsetError(f"{name} must be within ±{MAX_HOURS_FROM_SUNSET:g} hours of sunset (the sun's circle "
+                          f"takes {2 * MAX_HOURS_FROM_SUNSET:g} h), got {shown(hours)}")
 
 
 @dataclass(frozen=True)

@@ -28,7 +28,7 @@ from ..model.eye import exposure_key, film_response, srgb_encode, to_uint8
 from ..model.sky import (direct_irradiance, elevation, irradiance, island_normals, sky_dome, sky_radiance,
                          spectral_data, sun_radiance)
 from ..model.clouds import Clouds, cloud_radiance
-from ..model.sun import Sun
+from ..model.sun import Sun, require_hours
 from ..tape.codes import (CLOUDY_CODE_MAP, CODE_MAP, cloud_code_depths, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
                           track_elevation_max)
 
@@ -76,7 +76,7 @@ def glitter_weights(sun: Sun, hours: float, halo_radius: float | None = None) ->
         max(δ, one track code's step). Only for showing what another reach
         does (the book passes 3δ to redraw the old "N").
     """
-    require_finite("hours", hours)
+    require_hours("hours", hours)
     cmap = CODE_MAP
     e_sun = elevation(sun.position(hours))
     e_max = track_elevation_max(sun)
@@ -186,17 +186,17 @@ def tables(sun: Sun, hours: float, clouds: Clouds | None = None) -> np.ndarray:
     ndarray (3, 256) uint8, read-only
         One 256-entry table for each pass: red, green, blue.
     """
-    require_finite("hours", hours)
+    require_hours("hours", hours)
     return _tables_cached(sun, float(hours), clouds)[0]
 
 
 def tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> np.ndarray:
     """The same tables before the sRGB encoding and rounding: linear film response, (3, 256) float."""
-    require_finite("hours", hours)
+    require_hours("hours", hours)
     return _tables_linear(sun, float(hours), clouds)[0].T
 
 
 def sun_colour(sun: Sun, hours: float, clouds: Clouds | None = None) -> np.ndarray:
     """The film's linear response (3,) to the sun's disk ``hours`` before sunset (the "sun colour")."""
-    require_finite("hours", hours)
+    require_hours("hours", hours)
     return _tables_cached(sun, float(hours), clouds)[1]

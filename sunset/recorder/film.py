@@ -26,11 +26,12 @@ from pathlib import Path
 import numpy as np
 
 from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_CYCLE_FRAMES, MAX_FPS, MAX_TAPE_BYTES
-from ..errors import SunsetError, require_finite, require_int_range
+from ..errors import SunsetError, require_int_range
 from ..io import all_or_nothing
 from ..tape.tapefile import Tape, write_tape
 
 from ..model.scene import SceneLike
+from ..model.sun import require_hours
 
 __all__ = ["cycle_times", "render_cycle", "film_hours", "film_frames", "write_film", "write_video", "make_film",
            "FILM_CYCLES", "PREVIEW_WIDTH", "PREVIEW_FRAMES"]
@@ -149,8 +150,8 @@ def render_cycle(scene, frames: int, reflections: int = 2, seed: int = 0, progre
 
 def film_hours(from_hours: float, to_hours: float, count: int) -> np.ndarray:
     """Hours before sunset of each film frame: linear from ``from_hours`` to ``to_hours`` inclusive."""
-    require_finite("from_hours", from_hours)
-    require_finite("to_hours", to_hours)
+    require_hours("from_hours", from_hours)
+    require_hours("to_hours", to_hours)
     require_int_range("count", count, 1)
     if count == 1:
         return np.array([float(from_hours)])
@@ -252,8 +253,8 @@ def _check_film(path_mp4, path_preview, from_hours: float, to_hours: float, cycl
     """Every check of :func:`write_film`'s arguments, made before any work; the checked paths."""
     from ..io import check_writable
 
-    require_finite("from_hours", from_hours)
-    require_finite("to_hours", to_hours)
+    require_hours("from_hours", from_hours)
+    require_hours("to_hours", to_hours)
     require_int_range("cycles", cycles, 1)
     require_int_range("fps", fps, 1, MAX_FPS)
     require_int_range("preview_width", preview_width, 8)

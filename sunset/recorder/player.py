@@ -64,9 +64,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, RADIANS_PER_HOUR, SUN_SUPERSAMPLE
+from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, SUN_SUPERSAMPLE
 from ..errors import SunsetError, require_finite, require_int_range
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
+from ..model.sun import require_hours
 from ..tape.codes import CODE_MAP, cloud_code_depths, code_map, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations
 from .colour_tables import sun_colour, tables
 from .dicomed import sun_coverage
@@ -455,11 +456,8 @@ def write_player(scene, path: str | os.PathLike, frames: int = PLAYER_FRAMES, si
     require_int_range("reflections", reflections, 0, 2)
     require_int_range("seed", seed, 0, 2**32 - 1)
     grid = hours_grid(from_hours, to_hours)
-    half_day = math.pi / RADIANS_PER_HOUR           # the sun goes round its circle in 24 h
-    for name, value in (("from_hours", from_hours), ("to_hours", to_hours)):
-        if abs(value) > half_day:
-            raise SunsetError(f"{name} must be within ±{half_day:g} hours of sunset (the sun's circle takes "
-                              f"{2 * half_day:g} h), got {value!r}")
+    require_hours("from_hours", from_hours)
+    require_hours("to_hours", to_hours)
     cycle_times(scene, frames)                       # a sea that never repeats fails here, before the work
     scene = scene.with_size(*(size or player_size(scene)))
     tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress)

@@ -135,3 +135,31 @@ def test_bad_hours(hours):
         Sun().position(hours)
     with pytest.raises(SunsetError, match=r"^hours"):
         Sun().elevation(hours)
+
+
+@pytest.mark.parametrize("hours", [0.0, 12.0, -12.0, np.zeros(6), np.full((2, 3), 11.9), np.full((2, 3, 1), -12.0)])
+def test_require_hours_takes_scalars_and_arrays_within_half_a_day(hours):
+    from sunset.model.sun import require_hours
+
+    require_hours("hours", hours)          # no error
+
+
+@pytest.mark.parametrize("hours", [12.000001, -13.0, 1e300, np.array([0.0, 0.5, 12.5]), np.full((2, 3, 1), -24.0),
+                                   np.nan, np.array([0.0, np.inf])])
+def test_require_hours_refuses_what_is_beyond_half_a_day_or_not_finite(hours):
+    from sunset.model.sun import require_hours
+
+    with pytest.raises(SunsetError, match="hours"):
+        require_hours("hours", hours)
+
+
+def test_the_tables_and_the_light_refuse_hours_beyond_half_a_day():
+    from sunset.light.lighting import Lighting
+    from sunset.recorder.colour_tables import tables
+
+    sun = Sun()
+    with pytest.raises(SunsetError, match="±12 hours"):
+        tables(sun, 12.5)
+    with pytest.raises(SunsetError, match="±12 hours"):
+        Lighting.for_hour(sun, -100.0)
+    assert tables(sun, -12.0).shape == (3, 256)
