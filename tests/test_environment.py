@@ -127,7 +127,7 @@ def test_a_disagreement_is_caught(edit, words):
 
 
 def test_a_disagreement_in_pyproject_is_caught():
-    edited = PYPROJECT.replace('"hypothesis>=6.90"', '"hypothesis>=6.90", "pytest-xdist"')
+    edited = PYPROJECT.replace('"hypothesis>=6.100"', '"hypothesis>=6.100", "pytest-xdist"')
     assert edited != PYPROJECT
     assert any("pytest-xdist" in p for p in disagreements(edited, ENVIRONMENT))
 

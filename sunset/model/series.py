@@ -239,7 +239,7 @@ class StokesSeries:
              terms: int | None = None):
         """The diagonal Padé approximant of ``quantity``'s series, evaluated at x.
 
-        Built with :func:`pade_coefficients` from the first ``terms`` + 1
+        Built with ``pade_coefficients`` (this module) from the first ``terms`` + 1
         coefficients. A series that is even or odd (the speed and the
         amplitudes in α or ε) is continued in x², so that the approximant
         keeps that symmetry. Padé's linear system is badly conditioned at high
