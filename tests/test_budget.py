@@ -11,7 +11,6 @@ one that fails the test if it is called.
 from __future__ import annotations
 
 import time
-import tracemalloc
 from dataclasses import replace
 
 import numpy as np
@@ -19,40 +18,21 @@ import pytest
 
 import sunset.vector.clouds as vclouds
 from sunset.bench.memory import measure_rgb_bytes
-from sunset.cli import main
 from sunset.constants import (CLOUD_STRIP_PAIRS, MAX_FRAME_BYTES, MAX_FRAME_SAMPLES, MAX_ISLANDS, RGB_BYTES_PER_RAY,
                               RGB_LIGHT_BYTES)
+from sunset.bench.memory import _traced_peak
 from sunset.errors import SunsetError
 from sunset.kernels import use_compiled
 from sunset.light.budget import check_rgb_work, rgb_bytes
 from sunset.model.clouds import CloudCell, Clouds
 from sunset.model.scene import Scene, load_named_scene
 from sunset.vector.budget import check_work, predict_work
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def one_line_error(code, err, *words):
-    assert code == 2, err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("sunset: error:") and "Traceback" not in err, err
-    for w in words:
-        assert w in lines[0], (w, lines[0])
-    return lines[0]
+from tests.test_hostile_input import one_line_error, run
 
 
 def peak_of(fn) -> int:
     fn()                                      # tables and kernels made once
-    tracemalloc.start()
-    try:
-        fn()
-        return tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    return _traced_peak(fn)
 
 
 @pytest.fixture

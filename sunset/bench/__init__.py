@@ -47,6 +47,7 @@ from pathlib import Path
 
 from ..constants import CRAY1_SECONDS_FIGURE6
 from . import extra
+from .extra import timed
 from . import rgb as rgb_bench
 from . import series as stokes_bench
 
@@ -68,16 +69,6 @@ SCALING_SIZES = (128, 256, 512, 768, 1024)
 SCALING_TRAINS = (1, 2, 4, 8)
 SCALING_ISLANDS = (0, 1, 2, 3, 6)
 SCALING_SIZE = 512
-
-
-def _timed(fn, repeats: int):
-    fn()  # warm-up
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return times
 
 
 def _frame_once(scene, t: float = 0.0) -> dict:
@@ -129,7 +120,7 @@ def _measure_brute(width: int, height: int, repeats: int) -> dict:
     from ..model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
-    return {"total": _timed(lambda: trace_direct_bruteforce(scene, 0.0), repeats)}
+    return {"total": timed(lambda: trace_direct_bruteforce(scene, 0.0), repeats)}
 
 
 def _measure_cycle(width: int, height: int, repeats: int, frames: int = CYCLE_FRAMES) -> dict:
@@ -159,7 +150,7 @@ def _vector_stage_seconds(scene, repeats: int) -> float:
     from ..tape.codes import encode
     from ..vector.render import render
 
-    return statistics.median(_timed(lambda: encode(scene, render(scene, 0.0, 2)), repeats))
+    return statistics.median(timed(lambda: encode(scene, render(scene, 0.0, 2)), repeats))
 
 
 def _scaled_sea(sea, count: int):

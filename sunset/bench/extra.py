@@ -20,6 +20,17 @@ from pathlib import Path
 
 import numpy as np
 
+def timed(fn, repeats: int) -> list[float]:
+    """Wall-clock seconds of ``repeats`` calls of ``fn``, after one warm-up call."""
+    fn()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return times
+
+
 #: The most memory one frame may add, bytes per pixel (render + codes + film recorder).
 BYTES_PER_PIXEL_BOUND = 100
 

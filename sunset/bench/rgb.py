@@ -4,17 +4,9 @@ from __future__ import annotations
 
 import time
 
+from .extra import timed
+
 __all__ = ["measure_rgb"]
-
-
-def _timed(fn, repeats: int):
-    fn()  # warm-up
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return times
 
 
 def measure_rgb(width: int, height: int, repeats: int) -> dict:
@@ -48,8 +40,8 @@ def measure_rgb(width: int, height: int, repeats: int) -> dict:
 
     four()                                                                    # warm-up
     split = [four() for _ in range(repeats)]
-    return {"shade stored frame": _timed(lambda: shade_display(geometry, light), repeats),
-            "light of one hour": _timed(lambda: Lighting.for_hour(scene.sun, 0.5), repeats),
+    return {"shade stored frame": timed(lambda: shade_display(geometry, light), repeats),
+            "light of one hour": timed(lambda: Lighting.for_hour(scene.sun, 0.5), repeats),
             "4-sample frame": [a + b for a, b in split],
             "4-sample vector": [a for a, _ in split],
             "4-sample back end": [b for _, b in split]}
