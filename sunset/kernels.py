@@ -49,8 +49,8 @@ try:  # pragma: no cover - exercised by whichever environment runs the tests
 except ImportError:  # pragma: no cover
     _numba = None
 
-__all__ = ["AVAILABLE", "enabled", "use_compiled", "jit", "twin", "threads", "use_threads", "strips", "row_strips",
-           "run_strips", "keep_freed_memory"]
+__all__ = ["AVAILABLE", "enabled", "use_compiled", "compiled_trig", "jit", "twin", "threads", "use_threads", "strips",
+           "row_strips", "run_strips", "keep_freed_memory"]
 
 #: True when Numba is importable (the compiled kernels exist).
 AVAILABLE = _numba is not None
@@ -131,12 +131,26 @@ def jit(fn):
     return _numba.njit(cache=False, **options)(fn)
 
 
-def twin(module: str):
+def compiled_trig() -> bool:
+    """Whether compiled code computes NumPy's float32 sine and cosine bit for bit in this process.
+
+    :func:`sunset.trig_numba.matches_numpy`, checked once on a probe of
+    float32 values; False where Numba is missing.
+    """
+    if "trig" not in _state:
+        _state["trig"] = AVAILABLE and importlib.import_module("sunset.trig_numba").matches_numpy()
+    return _state["trig"]
+
+
+def twin(module: str, numpy_trig: bool = False):
     """Mark a NumPy reference kernel whose Numba twin is the function of the same name in ``module``.
 
     Returns a decorator. The decorated function dispatches on :func:`enabled`
     at every call; the reference stays reachable as ``.reference`` and the
-    twin as ``.compiled()`` (the tests compare the two).
+    twin as ``.compiled()`` (the tests compare the two). A twin that computes
+    float32 sines or cosines itself (``numpy_trig=True``, with
+    :mod:`sunset.trig_numba`) runs only where :func:`compiled_trig` holds;
+    elsewhere the reference runs, with the same bytes, more slowly.
     """
     def decorate(reference):
         name = reference.__name__
@@ -146,7 +160,7 @@ def twin(module: str):
 
         @functools.wraps(reference)
         def kernel(*args, **kwargs):
-            if _state["on"]:
+            if _state["on"] and (not numpy_trig or compiled_trig()):
                 return compiled()(*args, **kwargs)
             return reference(*args, **kwargs)
 
