@@ -80,7 +80,7 @@ def fma32(typingctx, a, b, c):
 
 @_jit
 def _reduce(x):
-    """(quadrant q as int32, sin r, cos r) for a float32 x with |x| within the limits."""
+    """(quadrant q, sin r, cos r) of a float32 x within the limits."""
     q = fma32(x, _TWO_OVER_PI, _RINT)
     q = q - _RINT
     r = fma32(q, _PIO2_HI, x)
