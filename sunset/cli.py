@@ -331,10 +331,8 @@ def _cmd_render_rgb(args, samples: int) -> None:
     if args.still:
         scene = scene.still()
     from .figures.paper import png_metadata
-    from .kernels import keep_freed_memory
     from .light.film import write_rgb_frame
 
-    keep_freed_memory()                                # the supersampled frame's big arrays, reused
     settings = {"t": args.time, "hours": args.hours, "reflections": args.reflections, "shading": "rgb",
                 "samples": samples, "depth": depth}
     write_rgb_frame(scene, args.output, t=args.time, hours=args.hours, samples=samples,
@@ -379,13 +377,11 @@ def _cmd_player(args) -> None:
 
 def _rgb_film(scene, args, samples: int) -> None:
     """``film --shading rgb``: one cycle's geometry traced once, re-shaded per hour (:mod:`sunset.light.film`)."""
-    from .kernels import keep_freed_memory
     from .light.film import film_frames, trace_cycle
     from .recorder.film import FILM_CYCLES, _check_film, cycle_times, film_hours, write_video
     from .tape.cycle import frame_workers
 
     _check_film(args.output, args.preview, args.from_hours, args.to_hours, FILM_CYCLES, args.fps)
-    keep_freed_memory()
     times = cycle_times(scene, args.frames)
     hours = film_hours(args.from_hours, args.to_hours, FILM_CYCLES * args.frames)
     workers = frame_workers(args.jobs, len(hours))                # --jobs: processes that shade the frames
@@ -433,6 +429,7 @@ def _cmd_info(args) -> None:
 
 COMMANDS = {"figures": _cmd_figures, "render": _cmd_render, "expose": _cmd_expose, "film": _cmd_film,
             "player": _cmd_player, "scene": _cmd_scene, "export": _cmd_export, "info": _cmd_info}
+RENDERING = frozenset({"figures", "render", "expose", "film", "player"})
 
 
 # Options that take a value which may look like an option ("--size -5x10",
@@ -468,6 +465,9 @@ def main(argv: list[str] | None = None) -> int:
         try:
             words = list(sys.argv[1:] if argv is None else argv)
             args = build_parser().parse_args(_join_values(words))
+            if args.command in RENDERING:
+                from .kernels import keep_freed_memory
+                keep_freed_memory()       # a frame's big arrays are reused by the next, not faulted in again
             COMMANDS[args.command](args)
             # a signal whose exception Python swallowed still ends the command
             check_stop()

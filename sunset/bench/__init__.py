@@ -46,6 +46,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from ..constants import CRAY1_SECONDS_FIGURE6
+from ..kernels import keep_freed_memory
 from . import extra
 from .extra import timed
 from . import rgb as rgb_bench
@@ -446,6 +447,7 @@ def main(argv=None) -> int:
     p.add_argument("--height", type=int, help=argparse.SUPPRESS)
     p.add_argument("--cycle-frames", type=int, default=CYCLE_FRAMES, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
+    keep_freed_memory()          # as the sunset command does: freed frames' blocks are reused, not re-faulted
     if args.repeats < 1 or args.brute_size < 1:
         print("sunset.bench: error: --repeats and --brute-size must be at least 1", file=sys.stderr)
         return 2

@@ -15,7 +15,7 @@ def measure_rgb(width: int, height: int, repeats: int) -> dict:
     The 4-sample frame is also split into its vector stage (2 × 2 rays per pixel) and what the back end adds
     (the geometry, the shading, the response and the 2 × 2 box filter), from the same runs.
 
-    As the ``sunset`` command does for it, the allocator keeps freed blocks (:func:`sunset.kernels.keep_freed_memory`).
+    As the ``sunset`` command does, the allocator keeps freed blocks (:func:`sunset.kernels.keep_freed_memory`).
     """
     from ..kernels import keep_freed_memory
     from ..light.geometry import Geometry
