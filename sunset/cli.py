@@ -465,9 +465,9 @@ def main(argv: list[str] | None = None) -> int:
         try:
             words = list(sys.argv[1:] if argv is None else argv)
             args = build_parser().parse_args(_join_values(words))
-            if args.command in RENDERING:
+            if args.command in RENDERING:     # big arrays reused, not faulted in
                 from .kernels import keep_freed_memory
-                keep_freed_memory()       # a frame's big arrays are reused by the next, not faulted in again
+                keep_freed_memory()
             COMMANDS[args.command](args)
             # a signal whose exception Python swallowed still ends the command
             check_stop()
