@@ -22,7 +22,7 @@ from ..kernels import row_strips, run_strips, strips, twin
 from ..model.waves import unit_normal
 from .frame import Frame
 from .budget import check_work
-from .heightfield import sampling, sea_gradient_on_scanlines, sea_profile, sea_scan
+from .heightfield import sampling, sea_columns, sea_gradient_on_scanlines
 from .island_samples import island_scan, probe_refinement
 
 __all__ = ["trace_direct", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals"]
@@ -172,9 +172,8 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     def sea(c0: int, c1: int) -> int:
         # the sea: its profile on the lattice, scan-converted, the far tail,
         # merged (ties to the sea)
-        g = sea_profile(scene.sea, s_all[c0:c1], u_sea_lattice, h, t)
-        return sea_scan(u_sea_lattice, g, zeta0, dz, H, best_u[c0:c1],
-                        best_surf[c0:c1])
+        return sea_columns(scene.sea, s_all[c0:c1], u_sea_lattice, h, t, zeta0, dz, H, best_u[c0:c1],
+                           best_surf[c0:c1])
 
     tail = 0
     if samp.n:

@@ -46,7 +46,9 @@ Speed. The functions here are the NumPy reference. :func:`sea_scan` has a
 Numba twin (:mod:`sunset.vector.heightfield_numba`, chosen by
 :mod:`sunset.kernels`) that runs the scan conversion, the far tail and the
 depth buffer as one compiled loop per scan line with the same arithmetic:
-the frames are identical.
+the frames are identical. :func:`sea_columns` (the profile, then the scan)
+has a twin that computes each scan line's profile, NumPy's float32 cosine
+included, and scan-converts it at once.
 """
 
 from __future__ import annotations
@@ -270,7 +272,7 @@ def _profile_arrays(s, u):
     return s, u, (1.0 / u).astype(_F32), np.zeros((s.size, u.size), dtype=_F32)
 
 
-@twin("sunset.vector.heightfield_numba")
+@twin("sunset.vector.heightfield_numba", numpy_trig=True)
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
     """g(y_i) = (ζ-height of the sea at (s·y_i, y_i)) for scan lines s, samples u.
 
@@ -424,3 +426,14 @@ def sea_scan(u, g, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf)
     best_u[sea_hit] = u_hit[sea_hit]
     best_surf[sea_hit] = SEA
     return tail_pixels
+
+
+@twin("sunset.vector.heightfield_numba", numpy_trig=True)
+def sea_columns(sea, s, u, h: float, t: float, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf) -> int:
+    """The sea on C scan lines: :func:`sea_profile`, then :func:`sea_scan` into the depth buffer.
+
+    Parameters and the result as those two functions'. The compiled twin
+    computes each scan line's profile and scan-converts it at once, with no
+    (C, n) array.
+    """
+    return sea_scan(u, sea_profile(sea, s, u, h, t), zeta0, dzeta, n_pixels, best_u, best_surf)

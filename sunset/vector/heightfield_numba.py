@@ -1,6 +1,6 @@
 """Numba twins of :func:`sunset.vector.heightfield.sea_scan` (the scan line, the far tail and the depth buffer in one
-compiled loop) and of :func:`sunset.vector.heightfield.sea_profile` (each train's phase, and Horner's rule summed into
-the profile, in one pass each).
+compiled loop), of :func:`sunset.vector.heightfield.sea_profile` (the phases, NumPy's float32 cosine and Horner's
+rule, compiled) and of :func:`sunset.vector.heightfield.sea_columns` (both, one scan line at a time).
 
 :func:`scan_columns` is the paper's scan-line loop
 (:func:`sunset.vector.heightfield.scan_line_reference`) with the arithmetic of
@@ -9,9 +9,12 @@ in the profile's precision, same interpolation), over many scan lines of
 ragged length; :func:`scan_merge` adds the sea's far tail and the
 per-scan-line depth buffer. The same operations in the same order as the
 NumPy reference, one element at a time: the frames are identical (tests).
-:func:`sea_profile` leaves the cosines to NumPy: its float32 ``cos`` is
-NumPy's own vectorised one, which a compiled loop (the C library's
-``cosf``) does not reproduce bit for bit. Chosen by :mod:`sunset.kernels`.
+The profile's cosines are :func:`sunset.trig_numba.cos_into`, NumPy's own
+float32 algorithm compiled, so these two twins are declared
+``numpy_trig=True`` and run only where its probe passes.
+:func:`sea_columns` computes a scan line's profile into a buffer of one scan
+line and scan-converts it while it is in cache: no (C, n) profile at all.
+Chosen by :mod:`sunset.kernels`.
 """
 
 from __future__ import annotations
@@ -20,6 +23,8 @@ import numpy as np
 
 from ..constants import SEA
 from ..kernels import jit as _jit
+from ..trig_numba import cos_into
+from . import heightfield as _reference
 from .heightfield import _F32, _chebyshev_power, _profile_arrays, _sea_terms
 
 
@@ -85,34 +90,43 @@ def _scan_columns(u, u_start, g, g_start, counts, zeta0, dzeta, inv_dzeta_t, zet
 
 
 @_jit
+def _merge_row(row, g_far, u_far, zeta0, dzeta, tail, best_u, best_surf, code, ties):
+    """One scan line's 1/yp ``row`` into its depth buffer (best_u, best_surf rows); the far tail first if ``tail``."""
+    K = row.shape[0]
+    n_tail = 0
+    if tail:
+        # the far tail: the plane at the farthest sample's height (as trace_direct)
+        for k in range(K):
+            zk = zeta0 + dzeta * k
+            if row[k] == 0 and zk < 0:
+                n_tail += 1
+                if g_far < 0:
+                    ut = zk * u_far / min(g_far, -1e-30)
+                else:
+                    ut = 0.0
+                if ut < 0.0:
+                    ut = 0.0
+                elif ut > u_far:
+                    ut = u_far
+                row[k] = ut
+    for k in range(K):
+        if row[k] > best_u[k] or (ties and row[k] > 0 and row[k] == best_u[k]):
+            best_u[k] = row[k]
+            best_surf[k] = code
+    return n_tail
+
+
+@_jit
 def _scan_merge(u, u_start, g, g_start, counts, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t, zero_t,
                 n_pixels, tail, u_far, best_u, best_surf, code, ties):
-    K = n_pixels
-    row = np.empty(K)
+    row = np.empty(n_pixels)
     n_tail = 0
     for c in range(counts.shape[0]):
         _scan_row(u, u_start[c], g, g_start[c], counts[c], zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t,
-                  zero_t, K, row)
-        if tail and counts[c] > 0:
-            # the far tail: the plane at the farthest sample's height (as trace_direct)
-            g_far = np.float64(g[g_start[c] + counts[c] - 1])
-            for k in range(K):
-                zk = zeta0 + dzeta * k
-                if row[k] == 0 and zk < 0:
-                    n_tail += 1
-                    if g_far < 0:
-                        ut = zk * u_far / min(g_far, -1e-30)
-                    else:
-                        ut = 0.0
-                    if ut < 0.0:
-                        ut = 0.0
-                    elif ut > u_far:
-                        ut = u_far
-                    row[k] = ut
-        for k in range(K):
-            if row[k] > best_u[c, k] or (ties and row[k] > 0 and row[k] == best_u[c, k]):
-                best_u[c, k] = row[k]
-                best_surf[c, k] = code
+                  zero_t, n_pixels, row)
+        g_far = np.float64(g[g_start[c] + counts[c] - 1]) if counts[c] > 0 else 0.0
+        n_tail += _merge_row(row, g_far, u_far, zeta0, dzeta, tail and counts[c] > 0, best_u[c], best_surf[c],
+                             code, ties)
     return n_tail
 
 
@@ -189,58 +203,105 @@ def sea_scan(u, g, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf)
                       ties=True)
 
 
-@_jit
-def _phase(b, y, c, phase):
-    """phase[i, j] = b[i] y[j] + c, in float32 (the reference's multiply, then add)."""
-    for i in range(phase.shape[0]):
-        bi = b[i]
-        for j in range(phase.shape[1]):
-            phase[i, j] = bi * y[j] + c
+def _sea_coefficients(sea, s, t: float, h: float):
+    """The profile's inputs for the compiled loops, float32 as the reference rounds them.
 
-
-@_jit
-def _horner_into(cos_theta, p, elev, first):
-    """elev (+)= Σ_(j>=1) p_j cos^j θ by Horner's rule, float32, as the reference's passes.
-
-    ``first``: the first train writes the profile instead of adding to it
-    (0 + x is not x when x is −0).
+    Per train j: b_j = ℓ_j s + m_j per scan line (T, C), c_j (T,), the
+    Chebyshev power coefficients p_0 … p_(n−1) padded with zeros (T, D) and
+    their count n (T,); and Σ_j p_j0 − h, summed in float64 in train order.
     """
-    n = p.shape[0]
-    for i in range(elev.shape[0]):
-        for j in range(elev.shape[1]):
-            x = cos_theta[i, j]
-            acc = x * p[n - 1]
-            for k in range(n - 2, 0, -1):
-                acc = acc + p[k]
-                acc = acc * x
-            if first:
-                elev[i, j] = acc
-            else:
-                elev[i, j] = elev[i, j] + acc
+    terms = _sea_terms(sea, np.asarray(s, dtype=np.float64), t)
+    powers = [_chebyshev_power(amps) for *_, amps in terms]
+    b = np.empty((len(terms), np.size(s)), dtype=_F32)
+    c = np.empty(len(terms), dtype=_F32)
+    p = np.zeros((len(terms), max([len(q) for q in powers] + [1])), dtype=_F32)
+    n = np.empty(len(terms), dtype=np.int64)
+    const = 0.0
+    for j, ((_l, _m, bj, cj, _amps), q) in enumerate(zip(terms, powers)):
+        b[j], c[j], p[j, :len(q)], n[j] = bj, cj, q, len(q)
+        const += q[0]
+    return b, c, p, n, _F32(const - h)
+
+
+# sea-profile-row-begin
+@_jit
+def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
+    """g = sea_profile's scan line ``col``, float32, in the reference's order of operations; x, w: scratch (N,)."""
+    N = y.shape[0]
+    for j in range(b.shape[0]):
+        bj, cj, top = b[j, col], c[j], p[j, n[j] - 1]
+        for i in range(N):                   # the phase θ = b_j y + c_j: multiply, then add
+            x[i] = bj * y[i] + cj
+        cos_into(x, w)                       # NumPy's float32 cos θ, bit for bit (not in place: slower)
+        acc = g if j == 0 else x             # the first train writes the profile: 0 + (−0) is not −0
+        for i in range(N):                   # Horner's rule in cos θ, p_0 left for the end
+            acc[i] = w[i] * top
+        for k in range(n[j] - 2, 0, -1):
+            pk = p[j, k]
+            for i in range(N):
+                acc[i] = (acc[i] + pk) * w[i]
+        if j > 0:
+            for i in range(N):
+                g[i] = g[i] + acc[i]
+    if b.shape[0] == 0:
+        g[:] = 0
+    for i in range(N):
+        g[i] = (g[i] + const) * u32[i]       # (elevation + Σ p_0 − h) · u
 
 
 @_jit
-def _finish_profile(elev, const, u32):
-    """g = (elevation + (Σ p_0 − h))·u, float32."""
-    for i in range(elev.shape[0]):
-        for j in range(elev.shape[1]):
-            elev[i, j] = (elev[i, j] + const) * u32[j]
+def _sea_columns(b, c, p, n, y, u32, const, u, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t, zero_t, K,
+                 best_u, best_surf, code):
+    """Each scan line's profile, scan-converted, the far tail and the depth buffer while it is in cache."""
+    N = y.shape[0]
+    x = np.empty(N, dtype=np.float32)
+    w = np.empty(N, dtype=np.float32)
+    g = np.empty(N, dtype=np.float32)
+    row = np.empty(K)
+    n_tail = 0
+    for col in range(b.shape[1]):
+        _profile_row(col, b, c, p, n, y, u32, const, x, w, g)
+        _scan_row(u, 0, g, 0, N, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t, zero_t, K, row)
+        n_tail += _merge_row(row, np.float64(g[N - 1]), u[N - 1], zeta0, dzeta, True, best_u[col],
+                             best_surf[col], code, True)
+    return n_tail
+# sea-profile-row-end
+
+
+@_jit
+def _profile_rows(b, c, p, n, y, u32, const, g):
+    x = np.empty(y.shape[0], dtype=np.float32)
+    w = np.empty(y.shape[0], dtype=np.float32)
+    for col in range(g.shape[0]):
+        _profile_row(col, b, c, p, n, y, u32, const, x, w, g[col])
 
 
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
-    """:func:`sunset.vector.heightfield.sea_profile` compiled, but for NumPy's cosines: the same float32 bits."""
+    """:func:`sunset.vector.heightfield.sea_profile` compiled, cosines included: the same float32 bits."""
     s, u, y, elev = _profile_arrays(s, u)
-    if u.size == 0:
-        return elev
-    phase = np.empty_like(elev)
-    const = 0.0
-    first = True
-    for _l, _m, b, c, amps in _sea_terms(sea, s, t):
-        _phase(np.ascontiguousarray(b, dtype=_F32), y, _F32(c), phase)
-        np.cos(phase, out=phase)
-        p = _chebyshev_power(amps)
-        const += p[0]
-        _horner_into(phase, p.astype(_F32), elev, first)
-        first = False
-    _finish_profile(elev, _F32(const - h), u.astype(_F32))
+    if u.size:
+        b, c, p, n, const = _sea_coefficients(sea, s, t, h)
+        _profile_rows(b, c, p, n, y, u.astype(_F32), const, elev)
     return elev
+
+
+def sea_columns(sea, s, u, h: float, t: float, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf) -> int:
+    """:func:`sunset.vector.heightfield.sea_columns`: each scan line's profile, scan line, far tail and depth buffer.
+
+    No (C, n) profile is made: a scan line's profile is scan-converted
+    while it is in cache. ``best_u`` and ``best_surf`` are updated in place.
+    """
+    u = np.ascontiguousarray(u, dtype=np.float64)
+    if u.size == 0:
+        return _reference.sea_columns.reference(sea, s, u, h, t, zeta0, dzeta, n_pixels, best_u, best_surf)
+    b, c, p, n, const = _sea_coefficients(sea, s, t, h)
+    y = (1.0 / u).astype(_F32)
+    bu, bs = np.ascontiguousarray(best_u), np.ascontiguousarray(best_surf)
+    f = _F32
+    tail = int(_sea_columns(b, c, p, n, y, u.astype(_F32), const, u, float(zeta0), float(dzeta), f(1.0 / dzeta),
+                            f(zeta0), f(-np.inf), f(n_pixels), f(0.0), int(n_pixels), bu, bs, SEA))
+    if bu is not best_u:
+        best_u[...] = bu
+    if bs is not best_surf:
+        best_surf[...] = bs
+    return tail

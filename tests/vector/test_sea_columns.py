@@ -1,0 +1,188 @@
+"""The sea's scan lines in one compiled pass (heightfield.sea_columns and its twin) against the NumPy reference.
+
+The reference is :func:`sunset.vector.heightfield.sea_profile` followed by
+:func:`sunset.vector.heightfield.sea_scan` on the NumPy path (whole-array
+float32 phases, NumPy's ``np.cos``, Horner's rule, the vectorized scan
+conversion). The twin computes each scan line's profile with the compiled
+cosine of :mod:`sunset.trig_numba` and scan-converts it at once; the depth
+buffer, the winning surfaces and the far-tail count must be the same bits,
+for the packaged scenes, Stokes orders 1 to 4, a still sea, phases beyond
+the cosine's fast range, and on any number of threads.
+"""
+
+import numpy as np
+import pytest
+
+from sunset import kernels
+from sunset.constants import SEA, SKY
+from sunset.model.scene import Scene, as_scene, scene_names
+from sunset.model.waves import Sea, WaveTrain
+from sunset.trig_numba import COS_LIMIT
+from sunset.vector import direct
+from sunset.vector import heightfield as hf
+from sunset.vector import heightfield_numba
+from sunset.vector.render import render
+
+pytestmark = pytest.mark.skipif(not kernels.AVAILABLE or not kernels.compiled_trig(),
+                                reason="the twin runs only where the compiled cosine is NumPy's")
+
+
+def setup(scene, seed=0):
+    """The sea's lattice, the scan lines and a depth buffer half filled with 'islands' (code 2)."""
+    cam = scene.camera
+    samp = hf.sampling(cam, scene.sea.max_elevation)
+    dz = cam.pixel_pitch[1]
+    rng = np.random.default_rng(seed)
+    W, H = cam.width, cam.height
+    u = samp.u()
+    best_u = np.where(rng.random((W, H)) < 0.4, rng.random((W, H)) * u[0], 0.0)
+    best_surf = np.where(best_u > 0, 2, SKY).astype(np.int8)
+    return cam, u, cam.s_centres(), cam.zy_min + 0.5 * dz, dz, best_u, best_surf
+
+
+def both(scene, t, seed=0):
+    """(reference, twin) results: (tail pixels, best_u, best_surf)."""
+    cam, u, s, zeta0, dz, best_u, best_surf = setup(scene, seed)
+    args = (scene.sea, s, u, cam.eye_height, t, zeta0, dz, cam.height)
+    out = []
+    for fn in (hf.sea_columns.reference, hf.sea_columns.compiled()):
+        bu, bs = best_u.copy(), best_surf.copy()
+        with kernels.use_compiled(False):      # the reference's inner calls on the NumPy path too
+            n = fn(*args, bu, bs)
+        out.append((n, bu, bs))
+    return out
+
+
+def assert_same(ref, got):
+    assert got[0] == ref[0]
+    np.testing.assert_array_equal(got[1].view(np.uint64), ref[1].view(np.uint64))
+    np.testing.assert_array_equal(got[2], ref[2])
+
+
+@pytest.mark.parametrize("name", sorted(scene_names()))
+@pytest.mark.parametrize("t", [0.0, 1.3, 977.25])
+def test_the_twin_is_the_reference_on_the_packaged_scenes(name, t):
+    scene = as_scene(name).with_size(90, 70)
+    ref, got = both(scene, t)
+    assert_same(ref, got)
+    if scene.camera.zy_min < 0:            # the sea is in view: it wins pixels, and some islands' stay
+        assert (ref[2] == SEA).any() and (ref[2] == 2).any()
+
+
+def sea_scene(trains, size=(70, 90)):
+    default = Scene.default()
+    return Scene(camera=default.camera, sun=default.sun, sea=Sea(tuple(trains)), islands=()).with_size(*size)
+
+
+@pytest.mark.parametrize("order", [1, 2, 3, 4])
+def test_every_stokes_order_and_a_train_at_rest(order):
+    scene = sea_scene([WaveTrain(0.5, 40.0, 260.0, 0.3, stokes_order=order), WaveTrain(0.12, 10.0, 235.0, 1.0),
+                       WaveTrain(0.0, 7.0, 10.0, 0.0), WaveTrain(0.2, 25.0, 95.0, 2.0, stokes_order=5 - order)])
+    for t in (0.0, 4.5):
+        ref, got = both(scene, t, seed=order)
+        assert_same(ref, got)
+        assert (ref[2] == SEA).any()
+
+
+def test_a_still_sea_and_the_far_tail():
+    # no trains: the profile is −h·u, the plane; every pixel below the horizon is sea, the tail included
+    ref, got = both(sea_scene([], size=(40, 31)), 0.0)
+    assert_same(ref, got)
+    assert ref[0] == 40                      # one tail pixel on each scan line at this size
+
+
+def test_phases_beyond_the_cosines_fast_range():
+    # 20 cm waves: b·y passes COS_LIMIT far out, where NumPy (and the twin) call the C library's cosf
+    scene = sea_scene([WaveTrain(0.005, 0.2, 80.0, 0.0), WaveTrain(0.3, 30.0, 200.0, 0.0)], size=(40, 400))
+    cam = scene.camera
+    u = hf.sampling(cam, scene.sea.max_elevation).u()
+    b, c, *_ = heightfield_numba._sea_coefficients(scene.sea, cam.s_centres(), 2.0, cam.eye_height)
+    phase = np.abs(b[:, :, None] * (1.0 / u).astype(np.float32)[None, None, :] + c[:, None, None])
+    assert np.count_nonzero(phase > COS_LIMIT) > 40          # the last samples of every scan line
+    ref, got = both(scene, 2.0)
+    assert_same(ref, got)
+
+
+def test_the_profile_twin_is_the_reference():
+    scene = as_scene("storm-swell").with_size(50, 60)
+    cam = scene.camera
+    u = hf.sampling(cam, scene.sea.max_elevation).u()
+    s = cam.s_centres()
+    want = hf.sea_profile.reference(scene.sea, s, u, cam.eye_height, 3.3)
+    got = hf.sea_profile.compiled()(scene.sea, s, u, cam.eye_height, 3.3)
+    np.testing.assert_array_equal(got.view(np.uint32), want.view(np.uint32))
+    assert hf.sea_profile.compiled()(Sea(()), s, u, cam.eye_height, 0.0).view(np.uint32).tolist() == \
+        hf.sea_profile.reference(Sea(()), s, u, cam.eye_height, 0.0).view(np.uint32).tolist()
+
+
+def test_a_strided_depth_buffer():
+    scene = as_scene("carlas-island").with_size(40, 30)
+    cam, u, s, zeta0, dz, best_u, best_surf = setup(scene)
+    ref_u, ref_s = best_u.copy(), best_surf.copy()
+    with kernels.use_compiled(False):
+        n_ref = hf.sea_columns(scene.sea, s, u, cam.eye_height, 0.5, zeta0, dz, cam.height, ref_u, ref_s)
+    wide_u = np.zeros((best_u.shape[0], 2 * best_u.shape[1]))
+    wide_s = np.zeros(wide_u.shape, np.int8)
+    wide_u[:, ::2], wide_s[:, ::2] = best_u, best_surf
+    n = hf.sea_columns.compiled()(scene.sea, s, u, cam.eye_height, 0.5, zeta0, dz, cam.height, wide_u[:, ::2],
+                                  wide_s[:, ::2])
+    assert n == n_ref
+    np.testing.assert_array_equal(wide_u[:, ::2], ref_u)
+    np.testing.assert_array_equal(wide_s[:, ::2], ref_s)
+
+
+def test_where_the_compiled_cosine_fails_the_reference_runs(monkeypatch):
+    scene = as_scene("carlas-island").with_size(40, 30)
+    cam, u, s, zeta0, dz, best_u, best_surf = setup(scene)
+    calls = []
+    monkeypatch.setattr(heightfield_numba, "sea_columns", lambda *args: calls.append(1))
+    monkeypatch.setitem(kernels._state, "trig", False)
+    with kernels.use_compiled(True):
+        hf.sea_columns(scene.sea, s, u, cam.eye_height, 0.5, zeta0, dz, cam.height, best_u, best_surf)
+    assert calls == [] and (best_surf == SEA).any()
+    monkeypatch.setitem(kernels._state, "trig", True)
+    with kernels.use_compiled(True):
+        hf.sea_columns(scene.sea, s, u, cam.eye_height, 0.5, zeta0, dz, cam.height, best_u, best_surf)
+    assert calls == [1]
+
+
+def test_the_sea_wins_exact_ties():
+    scene = as_scene("carlas-island").with_size(60, 50)
+    cam, u, s, zeta0, dz, _, _ = setup(scene)
+    sea_u = np.zeros((cam.width, cam.height))
+    sea_s = np.full(sea_u.shape, SKY, np.int8)
+    with kernels.use_compiled(False):
+        hf.sea_columns(scene.sea, s, u, cam.eye_height, 0.5, zeta0, dz, cam.height, sea_u, sea_s)
+    tie = (sea_u > 0) & (np.arange(sea_u.size).reshape(sea_u.shape) % 3 == 0)
+    assert tie.sum() > 100
+    best_u = np.where(tie, sea_u, 0.0)
+    best_surf = np.where(tie, 2, SKY).astype(np.int8)
+    got_u, got_s = best_u.copy(), best_surf.copy()
+    hf.sea_columns.compiled()(scene.sea, s, u, cam.eye_height, 0.5, zeta0, dz, cam.height, got_u, got_s)
+    np.testing.assert_array_equal(got_u, sea_u)
+    np.testing.assert_array_equal(got_s, sea_s)
+
+
+@pytest.mark.parametrize("name", ["storm-swell", "archipelago-at-dusk"])
+def test_the_direct_rays_do_not_depend_on_the_threads_or_the_path(name):
+    scene = as_scene(name).with_size(130, 97)
+    with kernels.use_compiled(False):
+        ref = direct.trace_direct(scene, 2.5)
+    for n in (1, 2, 3):
+        with kernels.use_compiled(True), kernels.use_threads(n):
+            got = direct.trace_direct(scene, 2.5)
+        for field in ("surface", "distance", "point", "normal", "direction"):
+            np.testing.assert_array_equal(getattr(got, field).view(np.uint8), getattr(ref, field).view(np.uint8))
+    assert (ref.surface == SEA).any()
+
+
+def test_a_whole_frame_on_both_paths():
+    scene = as_scene("post-in-the-swell").with_size(120, 90)
+    with kernels.use_compiled(False):
+        ref = render(scene, 0.9, 2)
+    with kernels.use_compiled(True), kernels.use_threads(2):
+        got = render(scene, 0.9, 2)
+    for field, value in vars(ref).items():
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(np.ascontiguousarray(getattr(got, field)).view(np.uint8),
+                                          np.ascontiguousarray(value).view(np.uint8))
