@@ -170,10 +170,10 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     tick = tock
 
     def sea(c0: int, c1: int) -> int:
-        # the sea: its profile on the lattice, scan-converted, the far tail,
-        # merged (ties to the sea)
-        return sea_columns(scene.sea, s_all[c0:c1], u_sea_lattice, h, t, zeta0, dz, H, best_u[c0:c1],
-                           best_surf[c0:c1])
+        # the sea: its profile on the lattice (sea_profile), scan-converted,
+        # the far tail, merged with ties to the sea (sea_scan)
+        return sea_columns(scene.sea, s_all[c0:c1], u_sea_lattice, h, t,
+                           zeta0, dz, H, best_u[c0:c1], best_surf[c0:c1])
 
     tail = 0
     if samp.n:
