@@ -25,7 +25,8 @@ from .budget import check_work
 from .heightfield import sampling, sea_columns, sea_gradient_on_scanlines
 from .island_samples import island_scan, probe_refinement
 
-__all__ = ["trace_direct", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals"]
+__all__ = ["trace_direct", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals",
+           "put_sea_normals"]
 
 _F32 = np.float32
 
@@ -213,8 +214,7 @@ def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:
         # the sea: the gradient in the b_j, c_j form, on the sea pixels only
         idx, s_hit, y_hit = hits[0]
         if len(idx):
-            fx, fy = sea_gradient_on_scanlines(scene.sea, s_hit, y_hit, t)
-            put_unit_normals(normal, idx, fx, fy)
+            put_sea_normals(scene.sea, t, normal, idx, s_hit, y_hit)
         for k, island in enumerate(scene.islands, start=1):
             idx, s_hit, yk = hits[k]
             if not len(idx):
@@ -254,6 +254,17 @@ def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int, out):
 def put_unit_normals(normal, idx, fx, fy) -> None:
     """Write the unit normals (−f_x, −f_y, 1)/|·| into the flat pixels ``idx`` of ``normal`` (H, W, 3), in place."""
     normal.reshape(-1, 3)[idx] = unit_normal(fx, fy)
+
+
+@twin("sunset.vector.slopes_numba", numpy_trig=True)
+def put_sea_normals(sea, t: float, normal, idx, s, y) -> None:
+    """The sea pixels' unit normals: the slopes on the scan lines, then (−f_x, −f_y, 1)/|·| into ``idx``, in place.
+
+    :func:`sunset.vector.heightfield.sea_gradient_on_scanlines` at (s·y, y)
+    and :func:`put_unit_normals`; the twin does both in one pass.
+    """
+    fx, fy = sea_gradient_on_scanlines(sea, s, y, t)
+    put_unit_normals(normal, idx, fx, fy)
 
 
 def _assemble_geometry(best_u, best_surf, s_all, zeta, out):

@@ -332,6 +332,7 @@ def _chebyshev_power(amps) -> np.ndarray:
     return np.polynomial.chebyshev.cheb2poly(np.concatenate([[0.0], np.asarray(amps, dtype=float)]))
 
 
+@twin("sunset.vector.slopes_numba", numpy_trig=True)
 def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     """(∂f/∂x, ∂f/∂y) of the sea at (s·y, y), in the paper's b_j, c_j form.
 

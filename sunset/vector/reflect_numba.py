@@ -1,16 +1,21 @@
-"""Numba twin of :func:`sunset.vector.reflect.trace_sea_rays`: the reflected rays' per-ray loops compiled.
+"""Numba twin of :func:`sunset.vector.reflect.trace_sea_rays`: the reflected rays of a strip in two compiled passes.
 
-* :func:`reflect_sea` gathers the sea pixels of a frame and reflects their
-  rays (R = D − 2(D·N)N, :func:`sunset.vector.pierce.reflect`).
-* :func:`crest_hits` pierces each ray's crest cylinder
-  (:func:`sunset.vector.crests.crest_candidates`, :func:`sunset.vector.crests.crest_cylinder`,
-  :func:`sunset.vector.crests.cylinder_coefficients`, :func:`sunset.vector.pierce.quadratic_interval`).
-* :func:`pierce_islands` is :func:`sunset.vector.pierce.pierce_islands`: the
-  bounding test compresses each island's candidates, then its three
-  quadratics and the nearest-hit selection, in two compiled passes.
-* :func:`write_back` scatters the traced rays into the frame.
+* :func:`sunset.vector.crests_numba.sea_rays` gathers the sea pixels of the
+  strip and reflects their rays (R = D − 2(D·N)N, :func:`sunset.vector.pierce.reflect`);
+  with two reflections it pierces each ray's crest cylinder and reflects the
+  hits again off the true wave normal, all in the same loop, with the crest's
+  cosine and the wave normal's sines and cosines taken there (float64, the C
+  library's, as NumPy's); it records the bounces for the RGB back end and
+  folds R_z up.
+* :func:`pierce_write` is :func:`sunset.vector.pierce.pierce_islands` (each
+  ray against every island's bounding circle, then the three quadratics, the
+  nearest hit kept) with the final fields written straight into the frame.
+* :func:`pierce_islands` and :func:`crest_hits` are the compiled island and
+  crest piercing on their own (the tests hold them against the reference's).
 
-The same operations in the same order as the NumPy reference: the frames are
+The island normals of the rays that hit are NumPy's
+(:func:`sunset.vector.pierce.island_normal`, on the compressed hits). The same
+operations in the same order as the NumPy reference: the frames are
 identical (tests). Chosen by :mod:`sunset.kernels`.
 """
 
@@ -22,171 +27,30 @@ import numpy as np
 
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..kernels import jit as _jit
-from .crests import crest_curvature, crest_lift, largest_train
+from .crests_numba import _quadratic, crest_constants, crest_distance, sea_rays, second_bounce_constants
 from .frame import Frame
-from .pierce import gather, island_normal, reflect, scatter
-from .reflect import record_bounces
+from .pierce import island_normal
 
 
 @_jit
-def _reflect_sea(surface, point, direction, normal, sea_code, idx, q, r):
-    H, W = surface.shape
-    j = 0
-    for y in range(H):
-        for x in range(W):
-            if surface[y, x] != sea_code:
-                continue
-            idx[j] = y * W + x
-            dx = np.float64(direction[y, x, 0])
-            dy = np.float64(direction[y, x, 1])
-            dz = np.float64(direction[y, x, 2])
-            nx = np.float64(normal[y, x, 0])
-            ny = np.float64(normal[y, x, 1])
-            nz = np.float64(normal[y, x, 2])
-            dot = dx * nx + dy * ny + dz * nz
-            two = 2.0 * dot
-            q[j, 0] = np.float64(point[y, x, 0])
-            q[j, 1] = np.float64(point[y, x, 1])
-            q[j, 2] = np.float64(point[y, x, 2])
-            r[j, 0] = dx - two * nx
-            r[j, 1] = dy - two * ny
-            r[j, 2] = dz - two * nz
-            j += 1
-    return j
-
-
-def reflect_sea(frame, sea_code: int):
-    """Gather the pixels whose direct ray met the sea and reflect their rays.
-
-    Returns ``(idx, q, r)``: flat pixel indices (row-major, the order of a
-    boolean mask), hit points and reflected directions, float64; as
-    ``frame.point[mask]`` and :func:`sunset.vector.pierce.reflect` of the direction
-    and normal there.
-    """
-    n = int(np.count_nonzero(frame.surface == sea_code))
-    idx = np.empty(n, np.intp)
-    q = np.empty((n, 3))
-    r = np.empty((n, 3))
-    _reflect_sea(np.ascontiguousarray(frame.surface), np.ascontiguousarray(frame.point),
-                 np.ascontiguousarray(frame.direction), np.ascontiguousarray(frame.normal), sea_code, idx, q, r)
-    return idx, q, r
-
-
-@_jit
-def _quadratic(a, b, c):
-    """(t_in, t_out, meets) as sunset.vector.pierce.quadratic_interval, for one ray."""
-    d = b * b - 4.0 * a * c
-    root = math.sqrt(abs(d))
-    qq = -0.5 * (b + math.copysign(root, b))
-    if a < 0.0:
-        r1 = qq / a
-        r2 = c / qq
-        # np.fmin / np.fmax: a NaN gives way to the other value
-        if r1 != r1:
-            t_in = r2
-            t_out = r2
-        elif r2 != r2:
-            t_in = r1
-            t_out = r1
-        else:
-            t_in = min(r1, r2)
-            t_out = max(r1, r2)
-        return t_in, t_out, d >= 0.0
-    lin = -c / b
-    t_in = lin if b > 0.0 else -np.inf
-    t_out = lin if b < 0.0 else np.inf
-    return t_in, t_out, (b != 0.0) or (c >= 0.0)
-
-
-@_jit
-def _phase_ahead(rate, ps):
-    """Phase from a ray's start to the next crest ahead of it (as sunset.vector.pierce.crest_phase), radians."""
-    two_pi = 2.0 * math.pi
-    if rate >= 0.0:
-        return two_pi - ps
-    if ps > 0.0:
-        return -ps
-    return -two_pi
-
-
-@_jit
-def _crest_phase(q, r, l, m, omega_t, phase, k, lift, half, psi, cand):
-    two_pi = 2.0 * math.pi
-    n = 0
+def _crest_all(q, r, crest, amps, out):
     for j in range(q.shape[0]):
-        theta = l * q[j, 0] + m * q[j, 1] - omega_t + phase
-        ps = theta % two_pi
-        psi[j] = ps
-        rate = l * r[j, 0] + m * r[j, 1]
-        rz = r[j, 2]
-        keep = True
-        if rz > 0.0:
-            # the bounding test of sunset.vector.crests.crest_candidates
-            ahead = _phase_ahead(rate, ps)
-            u0 = -ahead / k
-            w = rate / k
-            u_end = u0 + w * (lift / rz)
-            if (u0 > half and u_end > half) or (u0 < -half and u_end < -half):
-                keep = False
-        if keep:
-            cand[n] = j
-            n += 1
-    return n
-
-
-@_jit
-def _crest_hits(q, r, cand, psi, cos_psi, l, m, k, amps, amp_sum, kappa, out):
-    for j in range(cand.shape[0]):
-        i = cand[j]
-        qz = q[i, 2]
-        rx, ry, rz = r[i, 0], r[i, 1], r[i, 2]
-        rate = l * rx + m * ry
-        ps = psi[j]
-        ahead = _phase_ahead(rate, ps)
-        u0 = -ahead / k
-        # Σ a_n cos nθ by the Chebyshev recurrence (sunset.vector.pierce.harmonic_sum)
-        c1 = cos_psi[j]
-        elev = amps[0] * c1
-        t_prev = 1.0
-        t_cur = c1
-        for n in range(1, amps.shape[0]):
-            t_next = 2.0 * c1 * t_cur - t_prev
-            t_prev = t_cur
-            t_cur = t_next
-            elev = elev + amps[n] * t_cur
-        top = qz + amp_sum - elev
-        w = rate / k
-        a = -0.5 * kappa * w * w
-        b = -kappa * u0 * w - rz
-        c = top - 0.5 * kappa * u0 * u0 - qz
-        t_in, _, meets = _quadratic(a, b, c)
-        out[i] = t_in if (meets and t_in > 0.0) else np.inf
+        out[j] = crest_distance(q[j, 0], q[j, 1], q[j, 2], r[j, 0], r[j, 1], r[j, 2], crest, amps)
 
 
 def crest_hits(train, t: float, q, r) -> np.ndarray:
-    """Distance along each ray to its crest cylinder, +inf where it clears the crest.
+    """Distance along each ray (N, 3) to its crest cylinder, +inf where it clears the crest.
 
     :func:`sunset.vector.pierce.first_entry` of the cylinder of
-    :func:`sunset.vector.crests.crest_cylinder`, for rays (N, 3), after the bounding
-    test of :func:`sunset.vector.crests.crest_candidates`. A first pass reduces the
-    phase to ψ = θ mod 2π and compresses the candidates; NumPy takes cos ψ on
-    them (the reference's cosine); a second pass does the rest.
+    :func:`sunset.vector.crests.crest_cylinder` after the bounding test of
+    :func:`sunset.vector.crests.crest_candidates`, one compiled loop
+    (:func:`sunset.vector.crests_numba.crest_distance`).
     """
-    l, m = train.wave_vector
-    amps = np.ascontiguousarray(train.harmonic_amplitudes(), dtype=np.float64)
     q = np.ascontiguousarray(q, dtype=np.float64)
     r = np.ascontiguousarray(r, dtype=np.float64)
-    kappa = float(crest_curvature(train))
-    lift = crest_lift(train)
-    psi = np.empty(len(q))
-    cand = np.empty(len(q), np.intp)
-    n = _crest_phase(q, r, float(l), float(m), float(train.omega * t), float(train.phase), float(train.k), lift,
-                     math.sqrt(2.0 * lift / kappa), psi, cand)
-    cand = cand[:n]
-    psi = np.take(psi, cand)
-    out = np.full(len(q), np.inf)
-    _crest_hits(q, r, cand, psi, np.cos(psi), float(l), float(m), float(train.k), amps, float(np.sum(amps)), kappa,
-                out)
+    out = np.empty(len(q))
+    crest, amps = crest_constants(train, t)
+    _crest_all(q, r, crest, amps, out)
     return out
 
 
@@ -315,77 +179,98 @@ def pierce_islands(islands, eye_height: float, q, r):
     return best, which, part
 
 
+
 @_jit
-def _write_back(flat, bounces, r, final, part, normal, f_bounces, f_ray, f_surface, f_part, f_normal):
-    for j in range(flat.shape[0]):
-        i = flat[j]
-        f_bounces[i] = bounces[j]
-        f_surface[i] = final[j]
-        f_part[i] = part[j]
-        for a in range(3):
-            f_ray[i, a] = r[j, a]
-            f_normal[i, a] = normal[j, a]
+def pierce_write(flat, q, r, bounces, table, h, part_beach, part_cliff, part_hill, sky_code, f_bounces, f_ray,
+                 f_surface, f_part, f_normal, hit_j, hit_t, hit_which, hit_part):
+    """Pierce the islands (as :func:`_pierce_all`) and write each ray's final fields into the frame's pixels.
+
+    ``flat`` are row-major pixel indices of the (H, W) frame fields; the
+    final normal is NaN (the island hits' normals are filled afterwards).
+    The rays that hit an island are listed in ``hit_*``; returns their number.
+    """
+    W = f_surface.shape[1]
+    n_hit = 0
+    for j in range(q.shape[0]):
+        qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
+        rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
+        best = np.inf
+        which = sky_code
+        part = 0
+        for i in range(table.shape[0]):
+            row = table[i]
+            if _is_candidate(qx, qy, qz, rx, ry, rz, row[0], row[1], row[12], row[13]):
+                t, p = _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hill)
+                if t < best:
+                    best = t
+                    which = i + 1
+                    part = p
+        yy = flat[j] // W
+        xx = flat[j] - yy * W
+        f_bounces[yy, xx] = bounces[j]
+        f_ray[yy, xx, 0] = rx
+        f_ray[yy, xx, 1] = ry
+        f_ray[yy, xx, 2] = rz
+        f_surface[yy, xx] = which
+        f_part[yy, xx] = part
+        f_normal[yy, xx, 0] = np.nan
+        f_normal[yy, xx, 1] = np.nan
+        f_normal[yy, xx, 2] = np.nan
+        if which > 0:
+            hit_j[n_hit] = j
+            hit_t[n_hit] = best
+            hit_which[n_hit] = which
+            hit_part[n_hit] = part
+            n_hit += 1
+    return n_hit
 
 
-def write_back(frame, flat, bounces, r, final, part, normal) -> None:
-    """Scatter the traced sea pixels' final fields into the frame (rows ``flat`` of the flattened fields)."""
-    fields = (frame.bounces, frame.ray, frame.final_surface, frame.final_part, frame.final_normal)
-    if not all(f.flags.c_contiguous for f in fields):  # reshape would copy: index by (row, column) instead
-        at = np.unravel_index(flat, frame.surface.shape)
-        frame.bounces[at] = bounces
-        frame.ray[at] = r
-        frame.final_surface[at] = final
-        frame.final_part[at] = part
-        frame.final_normal[at] = normal
-        return
-    _write_back(np.ascontiguousarray(flat, np.intp), bounces, np.ascontiguousarray(r), final, part,
-                np.ascontiguousarray(normal), frame.bounces.reshape(-1), frame.ray.reshape(-1, 3),
-                frame.final_surface.reshape(-1), frame.final_part.reshape(-1), frame.final_normal.reshape(-1, 3))
+_NO_RECORD = (np.zeros((1, 1, 2), np.float32), np.zeros((1, 1, 2, 3), np.float32))
 
 
 def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
-    """:func:`sunset.vector.reflect.trace_sea_rays` with the per-ray loops compiled.
+    """:func:`sunset.vector.reflect.trace_sea_rays` compiled: the same frame, in two passes over the strip.
 
-    The same steps in the same arithmetic: gather and reflect the sea pixels,
-    pierce the crest cylinders, reflect the hits again off the true wave
-    normal (NumPy, on the compressed subset), |R_z|, pierce the islands, and
-    shade the island hits (NumPy, compressed). Gives the frame the NumPy path gives.
+    :func:`sunset.vector.crests_numba.sea_rays` (reflect, pierce the crest,
+    reflect again, record, |R_z|), then :func:`pierce_write` (the islands and
+    the frame's final fields), then NumPy's island normals on the hits.
     """
-    h = scene.camera.eye_height
-    flat, q, r = reflect_sea(frame, SEA)
-    r1 = r.copy() if frame.incidence is not None else None
-    bounces = np.ones(len(q), np.uint8)
-    idx = ray2 = None
-    if reflections == 2:
-        train = largest_train(scene.sea)
-        if train is not None:
-            hit = crest_hits(train, frame.t, q, r)
-            idx, (q2, r2, t2) = gather(np.isfinite(hit), q, r, hit)
-            point = q2 + t2[:, None] * r2
-            normal = scene.sea.normal(point[:, 0], point[:, 1], frame.t)
-            ray2 = reflect(r2, normal)
-            scatter(idx, point, q)
-            scatter(idx, ray2, r)
-            scatter(idx, 2, bounces)
-    if frame.incidence is not None:           # the RGB back end's record; the 8-bit tape needs none
-        d = frame.direction.reshape(-1, 3)[flat].astype(np.float64)
-        n = frame.normal.reshape(-1, 3)[flat].astype(np.float64)
-        record_bounces(frame, flat, -np.sum(d * n, axis=-1), r1, idx, ray2)
-    np.abs(r[:, 2], out=r[:, 2])
-    final = np.full(len(q), SKY, np.int8)
-    part = np.zeros(len(q), np.int8)
-    normal = None
-    if reflections >= 1 and scene.islands:
-        dist, final, part = pierce_islands(scene.islands, h, q, r)
-        normal = np.full((len(q), 3), np.nan)
-        # compress once to the rays that hit an island, then split by island
-        any_idx, (qa, ra, ta, pa, fa) = gather(final > 0, q, r, dist, part, final)
-        for k, island in enumerate(scene.islands, start=1):
-            sel, (qk, rk, tk, pk) = gather(fa == k, qa, ra, ta, pa)
+    h = float(scene.camera.eye_height)
+    n = int(np.count_nonzero(frame.surface == SEA))
+    flat = np.empty(n, np.intp)
+    q = np.empty((n, 3))
+    r = np.empty((n, 3))
+    bounces = np.empty(n, np.uint8)
+    second = second_bounce_constants(scene.sea, frame.t) if reflections == 2 else None
+    if second is None:
+        second = (crest_constants_dummy(), np.zeros(1), np.zeros((0, 4)), np.zeros((0, 1)), np.zeros(0, np.int64))
+        do_second = False
+    else:
+        do_second = True
+    record = frame.incidence is not None
+    inc, rays = (frame.incidence, frame.sea_rays) if record else _NO_RECORD
+    z0 = sea_rays(frame.surface, frame.point, frame.direction, frame.normal, SEA, do_second, *second, record, inc,
+                  rays, flat, q, r, bounces)
+    islands = scene.islands if reflections >= 1 else ()
+    table = island_table(islands, h, z0 if z0 < np.inf else 0.0)
+    hit_j = np.empty(n, np.intp)
+    hit_t = np.empty(n)
+    hit_which = np.empty(n, np.int8)
+    hit_part = np.empty(n, np.int8)
+    m = pierce_write(flat, q, r, bounces, table, h, PART_BEACH, PART_CLIFF, PART_HILL, SKY, frame.bounces, frame.ray,
+                     frame.final_surface, frame.final_part, frame.final_normal, hit_j, hit_t, hit_which, hit_part)
+    if m:
+        hit_j, hit_t, hit_which, hit_part = hit_j[:m], hit_t[:m], hit_which[:m], hit_part[:m]
+        for k, island in enumerate(islands, start=1):
+            sel = np.flatnonzero(hit_which == k)
             if len(sel):
-                hit = qk + tk[:, None] * rk
-                scatter(any_idx[sel], island_normal(island, hit[:, 0], hit[:, 1], pk), normal)
-    if normal is None:
-        normal = np.full((len(q), 3), np.nan)
-    write_back(frame, flat, bounces, r, final, part, normal)
+                jk = hit_j[sel]
+                hit = q[jk] + hit_t[sel][:, None] * r[jk]
+                at = np.unravel_index(flat[jk], frame.surface.shape)
+                frame.final_normal[at] = island_normal(island, hit[:, 0], hit[:, 1], hit_part[sel])
     return frame
+
+
+def crest_constants_dummy():
+    """Crest constants for a pass with one reflection (never read)."""
+    return (0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0)

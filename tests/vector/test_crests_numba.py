@@ -1,0 +1,101 @@
+"""The compiled reflected rays (sunset.vector.crests_numba, reflect_numba) against the NumPy reference, bit for bit."""
+
+from dataclasses import fields
+
+import numpy as np
+import pytest
+
+from sunset import kernels
+from sunset.constants import SEA
+from sunset.model.scene import Scene
+from sunset.vector import crests, crests_numba, direct, pierce, reflect, reflect_numba
+from sunset.vector.frame import Frame
+
+from .test_slopes_numba import same_bits, seas
+
+
+def scene_with(name, size=(120, 90)):
+    base = Scene.default().with_size(*size)
+    return Scene(camera=base.camera, sun=base.sun, sea=seas()[name], islands=base.islands)
+
+
+@pytest.mark.parametrize("name", ["order 1", "order 2", "order 4", "default"])
+@pytest.mark.parametrize("t", [0.0, 2.9, 4000.5])
+def test_the_sea_normal_at_a_point_is_numpys(name, t):
+    sea = seas()[name]
+    rng = np.random.default_rng(3)
+    x, y = rng.uniform(-300, 300, 3000), rng.uniform(2, 3000, 3000)
+    want = sea.normal(x, y, t)
+    waves, coef, count = crests_numba.sea_constants(sea, t)
+    got = np.array([crests_numba.sea_normal(a, b, waves, coef, count) for a, b in zip(x, y)])
+    assert same_bits(got, want)
+
+
+@pytest.mark.parametrize("name", ["order 1", "order 2", "order 4"])
+@pytest.mark.parametrize("t", [0.0, 7.25])
+def test_crest_distances_are_numpys(name, t):
+    sea = seas()[name]
+    train = crests.largest_train(sea)
+    rng = np.random.default_rng(11)
+    n = 8000
+    q = np.column_stack([rng.uniform(-200, 200, n), rng.uniform(5, 2000, n), np.zeros(n)])
+    q[:, 2] = -2.0 + sea.elevation(q[:, 0], q[:, 1], t)
+    r = rng.normal(size=(n, 3))
+    r[: n // 2, 2] = -np.abs(r[: n // 2, 2]) * 0.3        # many rays heading into the water
+    r /= np.linalg.norm(r, axis=1, keepdims=True)
+    cand, (qc, rc) = pierce.gather(crests.crest_candidates(train, t, q, r), q, r)
+    cyl = crests.crest_cylinder(train, t, qc, rc)
+    want = np.full(n, np.inf)
+    want[cand] = pierce.first_entry(*pierce.quadratic_interval(*crests.cylinder_coefficients(cyl, qc, rc))[::2])
+    got = reflect_numba.crest_hits(train, t, q, r)
+    assert np.isfinite(want).sum() > 200 and len(cand) < n       # hits, and rays the bounding test drops
+    assert same_bits(got, want)
+
+
+def frame_bits(frame):
+    out = {}
+    for f in fields(Frame):
+        v = getattr(frame, f.name)
+        out[f.name] = v.tobytes() if isinstance(v, np.ndarray) else v
+    return out
+
+
+def traced(scene, t, mode, sea_bounces):
+    frame = direct.trace_direct(scene, t)
+    return reflect.trace_reflections(scene, frame, mode, sea_bounces)
+
+
+@pytest.mark.parametrize("name", ["order 1", "order 2", "order 4", "default", "still"])
+@pytest.mark.parametrize("mode", [0, 1, 2])
+@pytest.mark.parametrize("threads", [1, 2])
+def test_reflected_frames_are_numpys(name, mode, threads):
+    scene = scene_with(name)
+    for t in (0.0, 3.1):
+        for sea_bounces in (True, False):
+            with kernels.use_threads(threads):
+                with kernels.use_compiled(False):
+                    ref = traced(scene, t, mode, sea_bounces)
+                got = traced(scene, t, mode, sea_bounces)
+            want, have = frame_bits(ref), frame_bits(got)
+            assert [k for k in want if want[k] != have[k]] == [], (t, sea_bounces)
+            if mode == 2 and name != "still":
+                assert (ref.bounces == 2).sum() > 20       # the second bounce is exercised
+            if mode >= 1:
+                assert (ref.final_surface[ref.surface == SEA] > 0).any()   # and the islands' hits
+
+
+def test_the_strip_twin_is_the_reference_on_a_strip():
+    scene = scene_with("order 4", (150, 120))
+    frame = direct.trace_direct(scene, 1.0).finish_direct(True)
+    frame.reflections = 2
+    a, b = frame.rows(30, 95), None
+    ref = Frame(**{f.name: (v.copy() if isinstance(v := getattr(frame, f.name), np.ndarray) else v)
+                   for f in fields(Frame)})
+    with kernels.use_compiled(False):
+        reflect.trace_sea_rays.reference(scene, ref.rows(30, 95), 2)
+    b = reflect.trace_sea_rays.compiled()(scene, a, 2)
+    assert b is a
+    assert frame_bits(frame) == frame_bits(ref)
+    # a changed bit would be seen
+    frame.ray[40, 3, 0] = np.nextafter(frame.ray[40, 3, 0], np.float32(9))
+    assert frame_bits(frame) != frame_bits(ref)
