@@ -22,9 +22,13 @@ are identical (tests).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
 
 from ..kernels import jit as _jit
 from .crests import crest_curvature, crest_lift, largest_train
@@ -56,6 +60,35 @@ def _quadratic(a, b, c):
     return t_in, t_out, (b != 0.0) or (c >= 0.0)
 
 
+@intrinsic
+def _fma64(typingctx, a, b, c):
+    """a·b + c rounded once (LLVM's ``llvm.fma.f64``), float64."""
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        f = ir.DoubleType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [f], ir.FunctionType(f, [f, f, f]))
+        return builder.call(fn, args)
+    return sig, codegen
+
+
+@_jit
+def mod_two_pi(x):
+    """x mod 2π with Python's and NumPy's rule (``x % (2π)``, ``np.mod``), the same bits, mostly without ``fmod``.
+
+    With n = ⌊x/2π⌋, the remainder x − n·2π is a real number that
+    ``np.mod`` rounds once (fmod's exact remainder, plus 2π where x < 0);
+    one fused multiply-add rounds it once too. Where x/2π rounded across an
+    integer (the result falls outside [0, 2π)), and for infinities and NaN,
+    the C library's fmod decides, as ``np.mod`` does.
+    """
+    two_pi = 2.0 * math.pi
+    r = _fma64(-math.floor(x / two_pi), two_pi, x)
+    if r >= 0.0 and r < two_pi:
+        return r
+    return x % two_pi
+
+
 @_jit
 def _phase_ahead(rate, ps):
     """Phase from a ray's start to the next crest ahead of it (as sunset.vector.crests._crest_ahead), radians."""
@@ -68,25 +101,31 @@ def _phase_ahead(rate, ps):
 
 
 @_jit
-def crest_distance(qx, qy, qz, rx, ry, rz, crest, amps):
-    """Distance along one ray to its crest cylinder, +inf where it clears the crest or misses.
+def crest_phase(qx, qy, rx, ry, rz, crest):
+    """(may it meet its crest, ψ = θ mod 2π at its origin) for one ray: the bounding test of
+    :func:`sunset.vector.crests.crest_candidates`.
 
     ``crest`` = (ℓ, m, ωt, φ, k, lift, half-width, Σ a_n, κ) of the largest
-    train (:func:`crest_constants`), ``amps`` its a_n.
+    train (:func:`crest_constants`).
     """
     l, m, omega_t, phase, k, lift, half, amp_sum, kappa = crest
-    two_pi = 2.0 * math.pi
     theta = l * qx + m * qy - omega_t + phase
-    ps = theta % two_pi
-    rate = l * rx + m * ry
-    ahead = _phase_ahead(rate, ps)
-    u0 = -ahead / k
-    w = rate / k
+    ps = mod_two_pi(theta)
     if rz > 0.0:
-        # the bounding test of sunset.vector.crests.crest_candidates
-        u_end = u0 + w * (lift / rz)
+        rate = l * rx + m * ry
+        u0 = -_phase_ahead(rate, ps) / k
+        u_end = u0 + (rate / k) * (lift / rz)
         if (u0 > half and u_end > half) or (u0 < -half and u_end < -half):
-            return np.inf
+            return False, ps
+    return True, ps
+
+
+@_jit
+def crest_entry(qx, qy, qz, rx, ry, rz, ps, crest, amps):
+    """Distance along a candidate ray to its crest cylinder (ψ from :func:`crest_phase`), +inf where it misses."""
+    l, m, omega_t, phase, k, lift, half, amp_sum, kappa = crest
+    rate = l * rx + m * ry
+    u0 = -_phase_ahead(rate, ps) / k
     # Σ a_n cos nθ by the Chebyshev recurrence (sunset.vector.crests.harmonic_sum), cos θ = cos ψ
     c1 = math.cos(ps)
     elev = amps[0] * c1
@@ -98,6 +137,7 @@ def crest_distance(qx, qy, qz, rx, ry, rz, crest, amps):
         t_cur = t_next
         elev = elev + amps[n] * t_cur
     top = qz + amp_sum - elev
+    w = rate / k
     a = -0.5 * kappa * w * w
     b = -kappa * u0 * w - rz
     c = top - 0.5 * kappa * u0 * u0 - qz
@@ -105,6 +145,15 @@ def crest_distance(qx, qy, qz, rx, ry, rz, crest, amps):
     if meets and t_in > 0.0 and t_in < np.inf:
         return t_in
     return np.inf
+
+
+@_jit
+def crest_distance(qx, qy, qz, rx, ry, rz, crest, amps):
+    """Distance along one ray to its crest cylinder, +inf where it clears the crest or misses."""
+    keep, ps = crest_phase(qx, qy, rx, ry, rz, crest)
+    if not keep:
+        return np.inf
+    return crest_entry(qx, qy, qz, rx, ry, rz, ps, crest, amps)
 
 
 def crest_constants(train, t: float):
@@ -164,11 +213,17 @@ def sea_rays(surface, point, direction, normal, sea_code, second, crest, amps, w
     Fills ``flat`` (row-major pixel index), ``q``, ``r`` (float64, after
     |R_z|) and ``bounces``; with ``record``, ``incidence`` and
     ``sea_rays_out`` at those pixels. Returns the lowest origin of a ray
-    heading up (+inf: none), as the island table needs.
+    heading up (+inf: none), as the island table needs. Three passes, as
+    the reference's compress: reflect every ray and test it against its
+    crest; pierce the candidates' crests and reflect the hits again; fold
+    R_z up.
     """
     H, W = surface.shape
+    n = q.shape[0]
+    cand = np.empty(n if second else 0, np.intp)
+    psi = np.empty(n if second else 0)
+    n_cand = 0
     j = 0
-    z0 = np.inf
     for yy in range(H):
         for xx in range(W):
             if surface[yy, xx] != sea_code:
@@ -184,54 +239,79 @@ def sea_rays(surface, point, direction, normal, sea_code, second, crest, amps, w
             two = 2.0 * dot
             qx = np.float64(point[yy, xx, 0])
             qy = np.float64(point[yy, xx, 1])
-            qz = np.float64(point[yy, xx, 2])
+            q[j, 0] = qx
+            q[j, 1] = qy
+            q[j, 2] = np.float64(point[yy, xx, 2])
             rx = dx - two * nx
             ry = dy - two * ny
             rz = dz - two * nz
-            b = 1
+            r[j, 0] = rx
+            r[j, 1] = ry
+            r[j, 2] = rz
+            bounces[j] = 1
             if record:
                 incidence[yy, xx, 0] = -dot
                 sea_rays_out[yy, xx, 0, 0] = rx
                 sea_rays_out[yy, xx, 0, 1] = ry
                 sea_rays_out[yy, xx, 0, 2] = rz
             if second:
-                t = crest_distance(qx, qy, qz, rx, ry, rz, crest, amps)
-                if t < np.inf:
-                    px = qx + t * rx
-                    py = qy + t * ry
-                    pz = qz + t * rz
-                    mx, my, mz = sea_normal(px, py, waves, coef, count)
-                    two = 2.0 * (rx * mx + ry * my + rz * mz)
-                    sx = rx - two * mx
-                    sy = ry - two * my
-                    sz = rz - two * mz
-                    if record:
-                        ex = sx - rx
-                        ey = sy - ry
-                        ez = sz - rz
-                        incidence[yy, xx, 1] = 0.5 * math.sqrt(ex * ex + ey * ey + ez * ez)
-                        sea_rays_out[yy, xx, 1, 0] = sx
-                        sea_rays_out[yy, xx, 1, 1] = sy
-                        sea_rays_out[yy, xx, 1, 2] = sz
-                    qx, qy, qz = px, py, pz
-                    rx, ry, rz = sx, sy, sz
-                    b = 2
-            rz = abs(rz)
-            q[j, 0] = qx
-            q[j, 1] = qy
-            q[j, 2] = qz
-            r[j, 0] = rx
-            r[j, 1] = ry
-            r[j, 2] = rz
-            bounces[j] = b
-            if rz >= 0.0 and qz < z0:
-                z0 = qz
+                keep, ps = crest_phase(qx, qy, rx, ry, rz, crest)
+                if keep:
+                    cand[n_cand] = j
+                    psi[n_cand] = ps
+                    n_cand += 1
             j += 1
+    for c in range(n_cand):
+        j = cand[c]
+        qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
+        rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
+        t = crest_entry(qx, qy, qz, rx, ry, rz, psi[c], crest, amps)
+        if t < np.inf:
+            px = qx + t * rx
+            py = qy + t * ry
+            pz = qz + t * rz
+            mx, my, mz = sea_normal(px, py, waves, coef, count)
+            two = 2.0 * (rx * mx + ry * my + rz * mz)
+            sx = rx - two * mx
+            sy = ry - two * my
+            sz = rz - two * mz
+            if record:
+                yy = flat[j] // W
+                xx = flat[j] - yy * W
+                ex = sx - rx
+                ey = sy - ry
+                ez = sz - rz
+                incidence[yy, xx, 1] = 0.5 * math.sqrt(ex * ex + ey * ey + ez * ez)
+                sea_rays_out[yy, xx, 1, 0] = sx
+                sea_rays_out[yy, xx, 1, 1] = sy
+                sea_rays_out[yy, xx, 1, 2] = sz
+            q[j, 0] = px
+            q[j, 1] = py
+            q[j, 2] = pz
+            r[j, 0] = sx
+            r[j, 1] = sy
+            r[j, 2] = sz
+            bounces[j] = 2
+    z0 = np.inf
+    for j in range(n):
+        rz = abs(r[j, 2])
+        r[j, 2] = rz
+        if rz >= 0.0 and q[j, 2] < z0:
+            z0 = q[j, 2]
     return z0
 
 
 def second_bounce_constants(sea, t: float):
-    """What :func:`sea_rays` needs for two reflections: (crest constants, a_n, waves, n·a_n, counts), or None."""
+    """What :func:`sea_rays` needs for two reflections: (crest constants, a_n, waves, n·a_n, counts), or None.
+
+    Kept for the last few (sea, t): every strip of a frame asks for the same (the arrays are only read).
+    """
+    return _second_bounce_constants(sea, float(t), math.copysign(1.0, t))
+
+
+@functools.lru_cache(maxsize=16)
+def _second_bounce_constants(sea, t: float, sign: float):
+    """:func:`second_bounce_constants`, cached; ``sign`` tells −0.0 from 0.0 (equal as keys)."""
     train = largest_train(sea)
     if train is None:
         return None

@@ -76,11 +76,13 @@ def island_table(islands, eye_height: float, z0: float) -> np.ndarray:
 
 
 @_jit
-def _is_candidate(qx, qy, qz, rx, ry, rz, X, Y, rho, top_h):
-    """The bounding test of sunset.vector.pierce.island_candidates for one ray and one island."""
+def _is_candidate(qx, qy, qz, rx, ry, rz, horiz, X, Y, rho, top_h):
+    """The bounding test of sunset.vector.pierce.island_candidates for one ray and one island.
+
+    ``horiz`` = √(R_x² + R_y²), the same for every island (taken once per ray).
+    """
     cx = X - qx
     cy = Y - qy
-    horiz = math.sqrt(rx * rx + ry * ry)
     along = rx * cx + ry * cy
     near_line = (abs(rx * cy - ry * cx) <= rho * horiz) & (along > -rho * horiz)
     low_enough = (along - rho * horiz) * rz <= (top_h - qz) * horiz * horiz
@@ -99,7 +101,22 @@ def _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hil
     A = e * rx * rx + f * rx * ry + g * ry * ry
     B = 2.0 * e * u * rx + f * (u * ry + v * rx) + 2.0 * g * v * ry
     C = e * u * u + f * u * v + g * v * v
-    c_in, c_out, c_meets = _quadratic(-A, -B - rz, (c_top - h) - C - qz)
+    a_c = -A
+    b_c = -B - rz
+    c_c = (c_top - h) - C - qz
+    a_b = -(be * rx * rx + bf * rx * ry + bg * ry * ry)
+    b_b = -(2.0 * be * u * rx + bf * (u * ry + v * rx) + 2.0 * bg * v * ry) - rz
+    c_b = (b_top - h) - (be * u * u + bf * u * v + bg * v * v) - qz
+    if a_c < 0.0 and not b_c * b_c - 4.0 * a_c * c_c >= 0.0:
+        # the ray misses the cliff (no real root: _quadratic's "meets" is false), so it cannot
+        # enter cliff ∩ hill: only the beach can be hit, and a miss is +inf whatever its part
+        if a_b < 0.0 and not b_b * b_b - 4.0 * a_b * c_b >= 0.0:
+            return np.inf, part_beach
+        b_in, _, b_meets = _quadratic(a_b, b_b, c_b)
+        if b_meets and b_in > 0.0:
+            return b_in, part_beach
+        return np.inf, part_beach
+    c_in, c_out, c_meets = _quadratic(a_c, b_c, c_c)
     h_in, h_out, h_meets = _quadratic(-kf * A, -kf * B - rz, (ct - h) + kf * (c_top - ct - C) - qz)
     # np.maximum / np.minimum propagate NaN
     if c_in != c_in or h_in != h_in:
@@ -111,9 +128,6 @@ def _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hil
     else:
         up_out = min(c_out, h_out)
     up_meets = c_meets and h_meets and up_in <= up_out
-    a_b = -(be * rx * rx + bf * rx * ry + bg * ry * ry)
-    b_b = -(2.0 * be * u * rx + bf * (u * ry + v * rx) + 2.0 * bg * v * ry) - rz
-    c_b = (b_top - h) - (be * u * u + bf * u * v + bg * v * v) - qz
     b_in, b_out, b_meets = _quadratic(a_b, b_b, c_b)
     beach_t = np.inf
     if b_meets and b_in > 0.0 and not (up_meets and up_in < b_in and b_in <= up_out):
@@ -126,25 +140,44 @@ def _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hil
     return beach_t, part_beach
 
 
+#: Rays per block of the candidate pass: its flags stay in the cache.
+_BLOCK = 512
+
+
 @_jit
 def _pierce_all(q, r, table, h, part_beach, part_cliff, part_hill, best, which, part):
-    """Every ray against every island in turn, in one pass: bounding test, quadratics, nearest hit so far.
+    """Every ray against every island in turn: bounding test, quadratics, nearest hit so far.
 
     The reference's island-by-island passes (candidates, then their
     quadratics) with the loops swapped: each ray keeps the same nearest hit,
-    first island among equals, with everything in registers.
+    first island among equals. Block by block of rays, the bounding tests of
+    every island come first, in a loop without branches (vectorised), then
+    each ray's quadratics where its flag is set.
     """
-    for j in range(q.shape[0]):
-        qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
-        rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
-        for i in range(table.shape[0]):
-            row = table[i]
-            if _is_candidate(qx, qy, qz, rx, ry, rz, row[0], row[1], row[12], row[13]):
-                t, p = _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hill)
-                if t < best[j]:
-                    best[j] = t
-                    which[j] = i + 1
-                    part[j] = p
+    n = q.shape[0]
+    n_isl = table.shape[0]
+    flags = np.empty((max(n_isl, 1), _BLOCK), np.bool_)
+    horiz = np.empty(_BLOCK)
+    for a in range(0, n, _BLOCK):
+        m = min(n, a + _BLOCK) - a
+        for j in range(m):
+            rx, ry = r[a + j, 0], r[a + j, 1]
+            horiz[j] = math.sqrt(rx * rx + ry * ry)
+        for i in range(n_isl):
+            X, Y, rho, top_h = table[i, 0], table[i, 1], table[i, 12], table[i, 13]
+            for j in range(m):
+                flags[i, j] = _is_candidate(q[a + j, 0], q[a + j, 1], q[a + j, 2], r[a + j, 0], r[a + j, 1],
+                                            r[a + j, 2], horiz[j], X, Y, rho, top_h)
+        for j in range(m):
+            k = a + j
+            for i in range(n_isl):
+                if flags[i, j]:
+                    t, p = _pierce_one(q[k, 0], q[k, 1], q[k, 2], r[k, 0], r[k, 1], r[k, 2], table[i], h,
+                                       part_beach, part_cliff, part_hill)
+                    if t < best[k]:
+                        best[k] = t
+                        which[k] = i + 1
+                        part[k] = p
 
 
 @_jit
@@ -183,44 +216,36 @@ def pierce_islands(islands, eye_height: float, q, r):
 @_jit
 def pierce_write(flat, q, r, bounces, table, h, part_beach, part_cliff, part_hill, sky_code, f_bounces, f_ray,
                  f_surface, f_part, f_normal, hit_j, hit_t, hit_which, hit_part):
-    """Pierce the islands (as :func:`_pierce_all`) and write each ray's final fields into the frame's pixels.
+    """Pierce the islands (:func:`_pierce_all`) and write each ray's final fields into the frame's pixels.
 
     ``flat`` are row-major pixel indices of the (H, W) frame fields; the
     final normal is NaN (the island hits' normals are filled afterwards).
     The rays that hit an island are listed in ``hit_*``; returns their number.
     """
+    n = q.shape[0]
+    best = np.full(n, np.inf)
+    which = np.full(n, sky_code, np.int8)
+    part = np.zeros(n, np.int8)
+    _pierce_all(q, r, table, h, part_beach, part_cliff, part_hill, best, which, part)
     W = f_surface.shape[1]
     n_hit = 0
-    for j in range(q.shape[0]):
-        qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
-        rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
-        best = np.inf
-        which = sky_code
-        part = 0
-        for i in range(table.shape[0]):
-            row = table[i]
-            if _is_candidate(qx, qy, qz, rx, ry, rz, row[0], row[1], row[12], row[13]):
-                t, p = _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hill)
-                if t < best:
-                    best = t
-                    which = i + 1
-                    part = p
+    for j in range(n):
         yy = flat[j] // W
         xx = flat[j] - yy * W
         f_bounces[yy, xx] = bounces[j]
-        f_ray[yy, xx, 0] = rx
-        f_ray[yy, xx, 1] = ry
-        f_ray[yy, xx, 2] = rz
-        f_surface[yy, xx] = which
-        f_part[yy, xx] = part
+        f_ray[yy, xx, 0] = r[j, 0]
+        f_ray[yy, xx, 1] = r[j, 1]
+        f_ray[yy, xx, 2] = r[j, 2]
+        f_surface[yy, xx] = which[j]
+        f_part[yy, xx] = part[j]
         f_normal[yy, xx, 0] = np.nan
         f_normal[yy, xx, 1] = np.nan
         f_normal[yy, xx, 2] = np.nan
-        if which > 0:
+        if which[j] > 0:
             hit_j[n_hit] = j
-            hit_t[n_hit] = best
-            hit_which[n_hit] = which
-            hit_part[n_hit] = part
+            hit_t[n_hit] = best[j]
+            hit_which[n_hit] = which[j]
+            hit_part[n_hit] = part[j]
             n_hit += 1
     return n_hit
 

@@ -16,6 +16,9 @@ are identical (tests). Chosen by :mod:`sunset.kernels` where
 
 from __future__ import annotations
 
+import functools
+import math
+
 import numpy as np
 
 from ..kernels import jit as _jit
@@ -32,8 +35,16 @@ def slope_terms(sea, t: float):
     Returns ``(l, m, c, lx, my, q, nq)``: arrays over the trains (q (trains,
     max len) float32, nq its lengths), as the reference builds them: q = p′,
     the derivative of Σ_n a_n T_n in powers of cos θ; with one coefficient the
-    slope is sin θ and the scale q₀ goes into the factors.
+    slope is sin θ and the scale q₀ goes into the factors. Kept for the
+    last few (sea, t): every strip of a frame asks for the same (the arrays
+    are only read).
     """
+    return _slope_terms(sea, float(t), math.copysign(1.0, t))
+
+
+@functools.lru_cache(maxsize=16)
+def _slope_terms(sea, t: float, sign: float):
+    """:func:`slope_terms`, cached; ``sign`` tells −0.0 from 0.0 (equal as keys, not always in the result)."""
     rows = []
     for l, m, _b, c, amps in _sea_terms(sea, np.zeros(0), t):
         q = np.polynomial.polynomial.polyder(_chebyshev_power(amps))
@@ -51,9 +62,9 @@ def slope_terms(sea, t: float):
 
 
 @_jit
-def _slopes_block(s32, y32, a, b, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy):
-    """fx, fy[0 : b − a] = the slopes at points a … b − 1, as the reference's passes (float32)."""
-    n = b - a
+def _slopes_block(s32, y32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy):
+    """fx, fy[0 : n] = the slopes at the n points (s32, y32), as the reference's passes (float32)."""
+    n = y32.shape[0]
     zero = np.float32(0.0)
     for i in range(n):
         fx[i] = zero
@@ -61,9 +72,9 @@ def _slopes_block(s32, y32, a, b, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, f
     for j in range(l.shape[0]):
         lj, mj, cj = l[j], m[j], c[j]
         for i in range(n):
-            v = s32[a + i] * lj
+            v = s32[i] * lj
             v = v + mj
-            v = v * y32[a + i]
+            v = v * y32[i]
             th[i] = v + cj
         sincos_into(th[:n], sn[:n], cs[:n])
         k = nq[j]
@@ -96,7 +107,7 @@ def _slopes(s32, y32, l, m, c, lx, my, q, nq, block, out_x, out_y):
     th, sn, cs, acc, fx, fy = _scratch(min(n, block))
     for a in range(0, n, block):
         b = min(n, a + block)
-        _slopes_block(s32, y32, a, b, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy)
+        _slopes_block(s32[a:b], y32[a:b], l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy)
         for i in range(b - a):
             out_x[a + i] = fx[i]
             out_y[a + i] = fy[i]
@@ -109,7 +120,7 @@ def _normals(s32, y32, l, m, c, lx, my, q, nq, block, flat, normal):
     one = np.float32(1.0)
     for a in range(0, n, block):
         b = min(n, a + block)
-        _slopes_block(s32, y32, a, b, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy)
+        _slopes_block(s32[a:b], y32[a:b], l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy)
         for i in range(b - a):
             gx = fx[i]
             gy = fy[i]

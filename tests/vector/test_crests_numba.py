@@ -99,3 +99,22 @@ def test_the_strip_twin_is_the_reference_on_a_strip():
     # a changed bit would be seen
     frame.ray[40, 3, 0] = np.nextafter(frame.ray[40, 3, 0], np.float32(9))
     assert frame_bits(frame) != frame_bits(ref)
+
+
+def test_the_phase_mod_two_pi_is_numpys():
+    # one fused multiply-add where the quotient is right, fmod where it is not: np.mod's bits everywhere
+    rng = np.random.default_rng(2)
+    two_pi = 2.0 * np.pi
+    k = np.arange(-50000, 50000) * two_pi
+    x = np.concatenate([rng.uniform(-1e3, 1e3, 200000), rng.uniform(-1e9, 1e9, 50000), k,
+                        np.nextafter(k, np.inf), np.nextafter(k, -np.inf),
+                        rng.integers(-10**6, 10**6, 100000) * two_pi + rng.normal(0, 1e-12, 100000),
+                        [0.0, -0.0, 5e-324, -5e-324, 1e300, -1e300, np.inf, -np.inf, np.nan]])
+    got = np.array([crests_numba.mod_two_pi(v) for v in x])
+    with np.errstate(invalid="ignore"):
+        want = np.mod(x, two_pi)
+    assert same_bits(got, want)
+    # the fused path does differ from a plain multiply-and-subtract: the test could see a wrong rounding
+    y = x[:200000]
+    plain = y - np.floor(y / two_pi) * two_pi
+    assert not same_bits(plain, want[:200000])
