@@ -13,7 +13,10 @@ The profile's cosines are :func:`sunset.trig_numba.cos_into`, NumPy's own
 float32 algorithm compiled, so these two twins are declared
 ``numpy_trig=True`` and run only where its probe passes.
 :func:`sea_columns` computes a scan line's profile into a buffer of one scan
-line and scan-converts it while it is in cache: no (C, n) profile at all.
+line and scan-converts it while it is in cache: no (C, n) profile at all. Its
+scan line is :func:`_scan_row_b`, the same result as :func:`_scan_row`
+without the walk's data-dependent branches, which the sea's long, mostly
+rising profiles mispredict.
 Chosen by :mod:`sunset.kernels`.
 """
 
@@ -78,6 +81,56 @@ def _scan_row(u, us, g, gs, n, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf
     while k < K:
         out[k] = 0.0
         k += 1
+
+
+@_jit
+def _scan_row_b(u, us, g, gs, n, zeta0, dzeta, inv_dzeta_t, zeta0_t, kf_t, zero_t, K, out, bins, first):
+    """:func:`_scan_row` without its data-dependent branches; ``bins`` (n) and ``first`` (K + 1): scratch.
+
+    The pixel units b_i = clip(⌈(g_i − ζ0)/Δζ⌉, 0, K) rise with g_i, so the
+    running maximum B_i of the b_i is the profile's; pixel k's first sample
+    above it is the first i with B_i > k, which is the last i with
+    B_(i−1) = k (B_(−1) = 0), or n for k = B_(n−1); the pixels between are
+    filled from the one below.
+    """
+    for i in range(n):                       # vectorised: no branch
+        r = np.ceil((g[gs + i] - zeta0_t) * inv_dzeta_t)
+        r = r if r > zero_t else zero_t      # NaN and −∞ to 0, as never rising
+        r = r if r < kf_t else kf_t
+        bins[i] = np.int32(r)
+    for k in range(K + 1):
+        first[k] = -1
+    top = 0
+    for i in range(n):
+        first[top] = i
+        top = max(top, bins[i])
+    first[top] = n
+    last = first[0]
+    for k in range(K):
+        i = first[k]
+        if i < 0:
+            i = last
+        last = i
+        if i >= n:
+            out[k] = 0.0
+        elif i > 0:
+            g0 = np.float64(g[gs + i - 1])
+            g1 = np.float64(g[gs + i])
+            u0 = u[us + i - 1]
+            u1 = u[us + i]
+            den = g1 - g0
+            if den > 0:
+                f = ((zeta0 + dzeta * k) - g0) / den
+                if f < 0.0:
+                    f = 0.0
+                elif f > 1.0:
+                    f = 1.0
+            else:
+                f = 0.0
+            out[k] = u0 + f * (u1 - u0)
+        else:
+            u0 = u[us]
+            out[k] = u0 + 0.0 * (u0 - u0)
 
 
 @_jit
@@ -250,18 +303,20 @@ def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
 
 
 @_jit
-def _sea_columns(b, c, p, n, y, u32, const, u, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t, zero_t, K,
-                 best_u, best_surf, code):
+def _sea_columns(b, c, p, n, y, u32, const, u, zeta0, dzeta, inv_dzeta_t, zeta0_t, kf_t, zero_t, K, best_u,
+                 best_surf, code):
     """Each scan line's profile, scan-converted, the far tail and the depth buffer while it is in cache."""
     N = y.shape[0]
     x = np.empty(N, dtype=np.float32)
     w = np.empty(N, dtype=np.float32)
     g = np.empty(N, dtype=np.float32)
     row = np.empty(K)
+    bins = np.empty(N, dtype=np.int32)
+    first = np.empty(K + 1, dtype=np.int64)
     n_tail = 0
     for col in range(b.shape[1]):
         _profile_row(col, b, c, p, n, y, u32, const, x, w, g)
-        _scan_row(u, 0, g, 0, N, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf_t, zero_t, K, row)
+        _scan_row_b(u, 0, g, 0, N, zeta0, dzeta, inv_dzeta_t, zeta0_t, kf_t, zero_t, K, row, bins, first)
         n_tail += _merge_row(row, np.float64(g[N - 1]), u[N - 1], zeta0, dzeta, True, best_u[col],
                              best_surf[col], code, True)
     return n_tail
@@ -299,7 +354,7 @@ def sea_columns(sea, s, u, h: float, t: float, zeta0: float, dzeta: float, n_pix
     bu, bs = np.ascontiguousarray(best_u), np.ascontiguousarray(best_surf)
     f = _F32
     tail = int(_sea_columns(b, c, p, n, y, u.astype(_F32), const, u, float(zeta0), float(dzeta), f(1.0 / dzeta),
-                            f(zeta0), f(-np.inf), f(n_pixels), f(0.0), int(n_pixels), bu, bs, SEA))
+                            f(zeta0), f(n_pixels), f(0.0), int(n_pixels), bu, bs, SEA))
     if bu is not best_u:
         best_u[...] = bu
     if bs is not best_surf:

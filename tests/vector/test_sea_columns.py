@@ -186,3 +186,23 @@ def test_a_whole_frame_on_both_paths():
         if isinstance(value, np.ndarray):
             np.testing.assert_array_equal(np.ascontiguousarray(getattr(got, field)).view(np.uint8),
                                           np.ascontiguousarray(value).view(np.uint8))
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_the_branch_free_scan_line_is_scan_convert(seed):
+    # random profiles, float32 and float64, rising and falling, with −∞ samples, pixels above and below them all
+    rng = np.random.default_rng(300 + seed)
+    dtype = (np.float32, np.float64)[seed % 2]
+    N, K = int(rng.integers(1, 80)), int(rng.integers(1, 50))
+    g = np.cumsum(rng.normal(0.05, 0.3, N)).astype(dtype)
+    g[rng.random(N) < 0.1] = -np.inf
+    if seed % 3 == 0:
+        g[: N // 2] = g[N // 2]               # long flat runs: equal bins
+    u = np.sort(rng.random(N))[::-1].copy()
+    zeta0, dz = float(rng.normal()), float(rng.uniform(0.01, 0.3))
+    want = hf.scan_convert(u, g[None, :], zeta0, dz, K)[0]
+    got = np.empty(K)
+    t = np.dtype(dtype).type
+    heightfield_numba._scan_row_b(u, 0, g, 0, N, zeta0, dz, t(1.0 / dz), t(zeta0), t(K), t(0.0), K, got,
+                                  np.empty(N, np.int32), np.empty(K + 1, np.int64))
+    np.testing.assert_array_equal(got.view(np.uint64), want.view(np.uint64))
