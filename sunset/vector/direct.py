@@ -23,7 +23,7 @@ from ..model.waves import unit_normal
 from .frame import Frame
 from .budget import check_work
 from .heightfield import sampling, sea_columns, sea_gradient_on_scanlines
-from .island_samples import island_scan, probe_refinement
+from .island_samples import islands_scan, probe_refinement
 
 __all__ = ["trace_direct", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals",
            "put_sea_normals"]
@@ -72,7 +72,7 @@ def island_pass(scene, refine_islands: bool = True) -> IslandPass:
 
     The scan lines are cut into strips (:func:`sunset.kernels.run_strips`);
     each island is sampled, scan-converted and merged, nearest first wins
-    (:func:`sunset.vector.island_samples.island_scan`), in island order.
+    (:func:`sunset.vector.island_samples.islands_scan`), in island order.
     """
     check_work(scene)                    # a wave cycle computes this pass first: the budget comes before it
     cam = scene.camera
@@ -88,12 +88,8 @@ def island_pass(scene, refine_islands: bool = True) -> IslandPass:
     budget = ISLAND_SAMPLE_BUDGET * max(samp.n, H)
 
     def work(c0: int, c1: int) -> int:
-        n = 0
-        for k, (island, m0) in enumerate(zip(scene.islands, probes), start=1):
-            if m0 is not None:
-                n += island_scan(island, s_all[c0:c1], samp, d, cam.eye_height, m0, zeta0, dz, H, cam.sigma,
-                                 budget, refine_islands, u[c0:c1], code[c0:c1], k)
-        return n
+        return islands_scan(scene.islands, probes, s_all, c0, c1, samp, d, cam.eye_height, zeta0, dz, H, cam.sigma,
+                            budget, refine_islands, u[c0:c1], code[c0:c1])
 
     samples = 0
     if any(m0 is not None for m0 in probes):

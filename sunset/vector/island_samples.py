@@ -23,7 +23,7 @@ from ..constants import ISLAND_MAX_REFINEMENT, ISLAND_PROBE_SAMPLES
 from ..kernels import twin
 from .heightfield import Sampling, scan_convert
 
-__all__ = ["probe_refinement", "island_scan", "expand_intervals"]
+__all__ = ["probe_refinement", "islands_scan", "island_scan", "expand_intervals"]
 
 _F32 = np.float32
 
@@ -136,11 +136,10 @@ def _island_samples_flat(island, s, samp: Sampling, d: float, h: float, m0: int,
         r = np.clip((gp - zeta0) / dzeta, -1.0, K + 1.0)
     pair = vp[:, 1:] & vp[:, :-1]
     dr = np.where(pair, np.diff(r, axis=1), 0.0)
-    d2 = np.zeros_like(dr)
-    if dr.shape[1] > 1:
-        dd = np.abs(np.diff(dr, axis=1))
-        d2[:, :-1] = dd
-        d2[:, 1:] = np.maximum(d2[:, 1:], dd)
+    # the change of the step from its neighbours; beyond a scan line's last interval the step is 0 (the
+    # same for every row, however long the strip's longest row is)
+    d2 = np.abs(np.diff(dr, axis=1, append=0.0))
+    d2[:, 1:] = np.maximum(d2[:, 1:], d2[:, :-1].copy())
     n = np.where(pair, np.maximum(1, np.ceil((np.abs(dr) + d2) / sigma)), 0).astype(np.int64)
     # samples only where they can be seen: an interval that stays, with its allowance and a pixel to
     # spare, below the profile's running maximum nearer to the eye is hidden behind the island itself
@@ -236,3 +235,23 @@ def island_scan(island, s, samp: Sampling, d: float, h: float, m0: int, zeta0: f
     best_u[nearer] = u_hit[nearer]
     best_surf[nearer] = code
     return int(valid.sum())
+
+
+@twin("sunset.vector.island_samples_numba", numpy_trig=True)
+def islands_scan(islands, m0s, s_all, c0: int, c1: int, samp: Sampling, d: float, h: float, zeta0: float,
+                 dzeta: float, K: int, sigma: float, budget: int, refine: bool, best_u, best_surf) -> int:
+    """Every island on scan lines ``s_all[c0:c1]`` (:func:`island_scan`, in island order), into their depth buffers.
+
+    ``m0s`` holds each island's probe refinement (None: out of view);
+    ``best_u``, ``best_surf`` (c1 − c0, K) are the strip's rows of the
+    depth buffer, island k winning with code k (1-based) where strictly
+    nearer. Returns the islands' samples. The compiled twin does a whole
+    strip in one call without the GIL, every scan line on its own: the same
+    numbers for any cut into strips.
+    """
+    n = 0
+    for k, (island, m0) in enumerate(zip(islands, m0s), start=1):
+        if m0 is not None:
+            n += island_scan(island, s_all[c0:c1], samp, d, h, m0, zeta0, dzeta, K, sigma, budget, refine, best_u,
+                             best_surf, k)
+    return n
