@@ -26,14 +26,14 @@ import numpy as np
 
 from ..constants import SUN_SUPERSAMPLE
 from ..errors import SunsetError, require_finite
-from ..kernels import row_strips, run_strips
+from ..kernels import row_strips, run_strips, twin
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
 from ..model.scene import SceneLike, as_scene
 from ..model.sun import Sun
 from ..tape.codes import code_map
 from .colour_tables import sun_colour, tables
 
-__all__ = ["PASSES", "sun_coverage", "expose"]
+__all__ = ["PASSES", "sun_coverage", "lookup", "expose"]
 
 #: The three passes of the film recorder, in order.
 PASSES = ("red", "green", "blue")
@@ -117,6 +117,15 @@ def sun_coverage(camera, sun: Sun, hours: float,
 
 
 # --------------------------------------------------------------------------- exposing
+@twin("sunset.recorder.dicomed_numba")
+def lookup(lut, codes, out) -> None:
+    """The three passes at once: ``out[..., :] = lut[codes]``, each code's (red, green, blue), in place.
+
+    ``lut`` (256, 3) uint8, ``codes`` (h, W) uint8, ``out`` (h, W, 3) uint8.
+    """
+    np.take(lut, codes, axis=0, out=out)
+
+
 def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
     """Expose a frame of codes: three passes through the tables, then the sun.
 
@@ -151,7 +160,7 @@ def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
     # the three passes, one through each filter (PASSES), as one lookup of the
     # code's (red, green, blue)
     lut = np.ascontiguousarray(tab.T)             # (256, 3)
-    run_strips(lambda r0, r1: np.take(lut, codes[r0:r1], axis=0, out=rgb[r0:r1]),
+    run_strips(lambda r0, r1: lookup(lut, codes[r0:r1], rgb[r0:r1]),
                row_strips(*codes.shape))
     rows, cols, cov = sun_coverage(cam, scene.sun, hours)
     if cov.size:

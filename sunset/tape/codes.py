@@ -372,12 +372,11 @@ def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
     H, W = shape
 
     def rows(r0: int, r1: int) -> None:
-        # u is added before every truncation, v to |W·R| before thresholding
-        u = dither(seed, r0 * W, (r1 - r0, W))
-        v = dither(seed, (H + r0) * W, (r1 - r0, W))
         part = frame.rows(r0, r1)
         out = codes[r0:r1]
-        encode_pixels(out, part, u, v, sun, cmap)
+        u = encode_rows(out, part, seed, r0, H, sun, cmap)
+        if u is None:                        # no posts or clouds in these rows
+            return
         post = np.asarray(part.final_surface) == POST
         if np.any(post):  # posts in the water: wood, coded as the cliff by ρ̂(N)
             rh = rho_hat(_rows(part.final_normal, post), sun)
@@ -408,6 +407,23 @@ def dither(seed: int, skip: int, shape) -> np.ndarray:
     bits = np.random.PCG64(seed)
     bits.advance(int(skip))
     return np.random.Generator(bits).random(tuple(shape))
+
+
+@twin("sunset.tape.codes_numba")
+def encode_rows(codes, frame: Frame, seed: int, r0: int, H: int, sun: Sun, cmap: CodeMap):
+    """Code the rows ``r0 …`` of a frame of H rows (``frame`` and ``codes`` hold just those rows), in place.
+
+    The dither: u (added before every truncation) and v (added to |W·R|
+    before thresholding) are the rows' pieces of :func:`dither`'s streams.
+    Returns u where the caller has more to code (posts, clouds); the
+    compiled twin draws u and v inside its loop and returns None when the
+    rows have neither.
+    """
+    shape = codes.shape
+    u = dither(seed, r0 * shape[1], shape)
+    v = dither(seed, (H + r0) * shape[1], shape)
+    encode_pixels(codes, frame, u, v, sun, cmap)
+    return u
 
 
 @twin("sunset.tape.codes_numba")

@@ -10,22 +10,89 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
 
 from ..constants import HALO_FACTOR, PART_BEACH, PART_CLIFF, PART_HILL, TRACK_DITHER
 from ..errors import SunsetError
 from ..kernels import jit as _jit
-from .codes import track_elevation_max
+from .codes import dither as _dither, track_elevation_max
+
+
+# --------------------------------------------------------------------------- the dither inside the loop
+#: PCG64's multiplier (O'Neill's 128-bit default, NumPy's ``PCG_DEFAULT_MULTIPLIER_128``).
+_PCG_MULT = (2549297995355413924 << 64) | 4865540595714422341
+_U64 = types.uint64
+
+
+@intrinsic
+def _pcg_step(typingctx, hi, lo, inc_hi, inc_lo):
+    """PCG64's state step s·M + inc mod 2¹²⁸ on (high, low) 64-bit halves, as one 128-bit multiply-add."""
+    sig = types.UniTuple(_U64, 2)(_U64, _U64, _U64, _U64)
+
+    def codegen(context, builder, signature, args):
+        i128 = ir.IntType(128)
+        i64 = ir.IntType(64)
+        shift = ir.Constant(i128, 64)
+        h, l, ih, il = [builder.zext(a, i128) for a in args]
+        state = builder.or_(builder.shl(h, shift), l)
+        inc = builder.or_(builder.shl(ih, shift), il)
+        state = builder.add(builder.mul(state, ir.Constant(i128, _PCG_MULT)), inc)
+        out = [builder.trunc(builder.lshr(state, shift), i64), builder.trunc(state, i64)]
+        return context.make_tuple(builder, signature.return_type, out)
+    return sig, codegen
 
 
 @_jit
-def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, U, V, W, part_codes, island_start, island_size,
-                   sky_start, sky_size, track_start, track_size, halo_start, halo_size, dither, sin_d, sin_halo,
-                   e_max):
+def _pcg_double(hi, lo, inc_hi, inc_lo):
+    """The next number of ``Generator(PCG64).random()``: step, XSL-RR output, 53 bits; (hi, lo, x)."""
+    hi, lo = _pcg_step(hi, lo, inc_hi, inc_lo)
+    value = hi ^ lo
+    rot = hi >> np.uint64(58)
+    out = (value >> rot) | (value << ((np.uint64(64) - rot) & np.uint64(63)))
+    return hi, lo, np.float64(out >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+@_jit
+def _pcg_fill(hi, lo, inc_hi, inc_lo, out):
+    """out[i] = the stream's next numbers (:func:`sunset.tape.codes.dither`), for the tests."""
+    for i in range(out.shape[0]):
+        hi, lo, out[i] = _pcg_double(hi, lo, inc_hi, inc_lo)
+
+
+def _stream(seed: int, skip: int) -> np.ndarray:
+    """PCG64(seed) advanced by ``skip`` (:func:`sunset.tape.codes.dither`) as uint64 (state hi, lo, inc hi, lo)."""
+    bits = np.random.PCG64(seed)
+    bits.advance(int(skip))
+    st = bits.state["state"]
+    m = (1 << 64) - 1
+    return np.array([st["state"] >> 64, st["state"] & m, st["inc"] >> 64, st["inc"] & m], np.uint64)
+
+
+@_jit
+def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, su, sv, draw, U, V, W, part_codes, island_start,
+                   island_size, sky_start, sky_size, track_start, track_size, halo_start, halo_size, dither, sin_d,
+                   sin_halo, e_max):
+    """The codes of :func:`sunset.tape.codes.encode_pixels`, pixel by pixel; (-1 or the first unknown island part,
+    the pixels left to the caller: posts and clouds).
+
+    With ``draw`` the dither u, v is drawn pixel by pixel from the PCG64 streams ``su``, ``sv`` (state high,
+    low, increment high, low; :func:`_stream`) instead of read from the arrays ``u``, ``v``.
+    """
     H, Wd = surf.shape
+    uh, ul, uih, uil = su[0], su[1], su[2], su[3]
+    vh, vl, vih, vil = sv[0], sv[1], sv[2], sv[3]
+    others = 0
     for y in range(H):
         for x in range(Wd):
+            if draw:
+                uh, ul, uu = _pcg_double(uh, ul, uih, uil)
+                vh, vl, vv = _pcg_double(vh, vl, vih, vil)
+            else:
+                uu = u[y, x]
+                vv = v[y, x]
             s = surf[y, x]
-            uu = u[y, x]
             if s >= 1:
                 # ρ̂(N) (sunset.tape.codes.rho_hat) and the island offset (sunset.tape.codes.island_offsets)
                 n0 = np.float64(normal[y, x, 0])
@@ -48,7 +115,7 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, U, V, W, part_
                     if part_codes[i] == p:
                         j = i
                 if j < 0:
-                    return p
+                    return p, others
                 size = island_size[j]
                 off = np.int64(np.floor((rh + 1.0) * (size / 4.0) + uu)) % size
                 codes[y, x] = island_start[j] + off
@@ -59,7 +126,7 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, U, V, W, part_
                 code = sky_start + min(max(k, 0), sky_size - 1)
                 if bounces[y, x] > 0:
                     dot = np.float64(ray[y, x, 0]) * W[0] + np.float64(ray[y, x, 1]) * W[1] + z * W[2]
-                    wr = abs(dot) + (v[y, x] - 0.5) * dither
+                    wr = abs(dot) + (vv - 0.5) * dither
                     if wr < sin_d:
                         k = np.int64(np.floor(math.asin(zc) * (track_size / e_max) + uu))
                         code = track_start + min(max(k, 0), track_size - 1)
@@ -67,32 +134,48 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, U, V, W, part_
                         k = np.int64(np.floor(math.asin(zc) * (halo_size / e_max) + uu))
                         code = halo_start + min(max(k, 0), halo_size - 1)
                 codes[y, x] = code
-    return -1
+            else:
+                others += 1
+    return -1, others
 
 
-def _encode(codes, frame, u, v, sun, cmap, part_ids, dither: float, sin_d: float, sin_halo: float,
-                  e_max: float):
-    """The codes of :func:`sunset.tape.codes.encode` in one pass over the pixels, into ``codes`` (uint8, in place).
+_NO_STREAM = np.zeros(4, np.uint64)
+_NO_DITHER = np.zeros((1, 1))
 
-    ``u`` and ``v`` are encode's dither arrays; ``part_ids`` the island parts
-    in the order of their code ranges. Returns -1, or the first unknown island
-    part met (the caller raises).
+
+def _encode(codes, frame, sun, cmap, u=None, v=None, streams=None):
+    """Run :func:`_encode_pixels` on a frame's rows: with the dither arrays ``u``, ``v`` or the two ``streams``.
+
+    Raises for an unknown island part; returns the pixels left to the caller (posts, clouds).
     """
+    part_ids = (PART_HILL, PART_CLIFF, PART_BEACH)
     ranges = [cmap.for_part(p) for p in part_ids]
-    return int(_encode_pixels(
+    draw = streams is not None
+    su, sv = streams if draw else (_NO_STREAM, _NO_STREAM)
+    bad, others = _encode_pixels(
         codes, np.ascontiguousarray(frame.final_surface), np.ascontiguousarray(frame.final_part),
         np.ascontiguousarray(frame.final_normal), np.ascontiguousarray(frame.ray),
-        np.ascontiguousarray(frame.bounces), u, v, np.asarray(sun.U, float), np.asarray(sun.V, float),
-        np.asarray(sun.W, float), np.asarray(part_ids, np.int64), np.array([r.start for r in ranges], np.int64),
-        np.array([r.size for r in ranges], np.int64), cmap.sky.start, cmap.sky.size, cmap.track.start,
-        cmap.track.size, cmap.halo.start, cmap.halo.size, float(dither), float(sin_d), float(sin_halo),
-        float(e_max)))
+        np.ascontiguousarray(frame.bounces), _NO_DITHER if draw else u, _NO_DITHER if draw else v, su, sv, draw,
+        np.asarray(sun.U, float), np.asarray(sun.V, float), np.asarray(sun.W, float), np.asarray(part_ids, np.int64),
+        np.array([r.start for r in ranges], np.int64), np.array([r.size for r in ranges], np.int64),
+        cmap.sky.start, cmap.sky.size, cmap.track.start, cmap.track.size, cmap.halo.start, cmap.halo.size,
+        float(TRACK_DITHER * math.sin(sun.delta)), float(math.sin(sun.delta)),
+        float(math.sin(HALO_FACTOR * sun.delta)), float(track_elevation_max(sun)))
+    if bad >= 0:
+        raise SunsetError(f"frame.final_part must be 1 (beach), 2 (cliff) or 3 (hill) on islands, got {bad}")
+    return int(others)
 
 
 def encode_pixels(codes, frame, u, v, sun, cmap) -> None:
     """:func:`sunset.tape.codes.encode_pixels` in one compiled pass over the pixels."""
-    bad = _encode(codes, frame, u, v, sun, cmap, (PART_HILL, PART_CLIFF, PART_BEACH),
-                  TRACK_DITHER * math.sin(sun.delta), math.sin(sun.delta), math.sin(HALO_FACTOR * sun.delta),
-                  track_elevation_max(sun))
-    if bad >= 0:
-        raise SunsetError(f"frame.final_part must be 1 (beach), 2 (cliff) or 3 (hill) on islands, got {bad}")
+    _encode(codes, frame, sun, cmap, u=np.ascontiguousarray(u, np.float64), v=np.ascontiguousarray(v, np.float64))
+
+
+def encode_rows(codes, frame, seed: int, r0: int, H: int, sun, cmap):
+    """:func:`sunset.tape.codes.encode_rows` with the dither drawn inside the compiled loop (no u, v arrays).
+
+    Returns None when the rows have no posts or clouds, else their u (the caller codes those pixels).
+    """
+    h, Wd = codes.shape
+    others = _encode(codes, frame, sun, cmap, streams=(_stream(seed, r0 * Wd), _stream(seed, (H + r0) * Wd)))
+    return _dither(seed, r0 * Wd, (h, Wd)) if others else None

@@ -130,3 +130,27 @@ def test_expose_rejects_bad_codes():
         expose(scene, np.zeros((6, 8), np.int32), 1.0)
     with pytest.raises(SunsetError, match="shape"):
         expose(scene, np.zeros((8, 6), np.uint8), 1.0)
+
+
+def test_the_compiled_lookup_is_np_take():
+    from sunset import kernels
+    from sunset.recorder.dicomed import lookup
+
+    rng = np.random.default_rng(31)
+    lut = rng.integers(0, 256, (256, 3), dtype=np.uint8)
+    codes = rng.integers(0, 256, (37, 53), dtype=np.uint8)
+    for c in (codes, codes[::2, 3:], codes.T):         # strips, views and transposes of a tape's frame
+        want = np.empty(c.shape + (3,), np.uint8)
+        lookup.reference(lut, c, want)
+        got = np.zeros_like(want)
+        lookup.compiled()(lut, c, got)
+        np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(want, lut[c])    # and the reference is the table read per pixel
+    scene = Scene.default().with_size(64, 48)
+    tape = rng.integers(0, 256, (48, 64), dtype=np.uint8)
+    for hours in (0.0, 1.5):
+        with kernels.use_compiled(False):
+            want = expose(scene, tape, hours)
+        with kernels.use_compiled(True):
+            got = expose(scene, tape, hours)
+        np.testing.assert_array_equal(got, want)

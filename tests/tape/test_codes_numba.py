@@ -1,0 +1,76 @@
+"""The compiled coding (sunset/tape/codes_numba.py) against the NumPy reference, bit for bit.
+
+The twin of ``encode_rows`` draws the dither inside its loop from PCG64
+streams it steps itself; its numbers must be NumPy's, and the codes of
+every scene (islands, glitter, posts, clouds) the reference's, for any cut
+into strips and any number of threads.
+"""
+
+import numpy as np
+import pytest
+
+from sunset import kernels
+from sunset.constants import PART_CLIFF
+from sunset.errors import SunsetError
+from sunset.model.scene import as_scene
+from sunset.tape import codes, codes_numba
+from sunset.vector.render import render
+
+
+@pytest.mark.parametrize("seed, skip", [(0, 0), (1, 1), (9, 12345), (2**32 - 1, 10**12 + 7)])
+def test_the_compiled_stream_is_numpys(seed, skip):
+    st = codes_numba._stream(seed, skip)
+    got = np.empty(20011)
+    codes_numba._pcg_fill(st[0], st[1], st[2], st[3], got)
+    np.testing.assert_array_equal(got.view(np.uint64), codes.dither(seed, skip, got.shape).view(np.uint64))
+    # one number off is seen
+    assert not np.array_equal(got, codes.dither(seed, skip + 1, got.shape))
+
+
+def code_rows(scene, frame, seed, cuts, rows_fn):
+    H, W = frame.shape
+    out = np.zeros((H, W), np.uint8)
+    left = {}
+    for r0, r1 in cuts:
+        left[r0] = rows_fn(out[r0:r1], frame.rows(r0, r1), seed, r0, H, scene.sun, codes.code_map(scene))
+    return out, left
+
+
+@pytest.mark.parametrize("name", ["carlas-island", "post-in-the-swell", "carlas-island-clouds",
+                                  "archipelago-at-dusk"])
+def test_the_compiled_rows_are_the_numpy_ones(name):
+    scene = as_scene(name).with_size(173, 131)
+    frame = render(scene, 0.8, 2)
+    H, W = frame.shape
+    rng = np.random.default_rng(3)
+    for seed in (0, 77):
+        want, want_u = code_rows(scene, frame, seed, [(0, H)], codes.encode_rows.reference)
+        edges = np.unique(np.concatenate([[0, H], rng.integers(1, H, 5)])).tolist()
+        cuts = list(zip(edges[:-1], edges[1:]))
+        got, got_u = code_rows(scene, frame, seed, cuts, codes.encode_rows.compiled())
+        # islands and sky coded alike; posts and clouds are left to encode, with the rows' u where there are any
+        done = (frame.final_surface >= 1) | (frame.final_surface == -1)
+        np.testing.assert_array_equal(got[done], want[done])
+        for r0, r1 in cuts:
+            rest = ~done[r0:r1]
+            if rest.any():
+                np.testing.assert_array_equal(got_u[r0], want_u[0][r0:r1])
+            else:
+                assert got_u[r0] is None
+        # and whole frames, on both paths and any threads
+        with kernels.use_compiled(False):
+            ref = codes.encode(scene, frame, seed=seed)
+        for n in (1, 2, 3):
+            with kernels.use_compiled(True), kernels.use_threads(n):
+                np.testing.assert_array_equal(codes.encode(scene, frame, seed=seed), ref)
+
+
+def test_an_unknown_island_part_is_refused_on_both_paths():
+    scene = as_scene("carlas-island").with_size(60, 40)
+    frame = render(scene, 0.0, 2)
+    island = frame.final_surface >= 1
+    assert island.any() and (frame.final_part[island] == PART_CLIFF).any()
+    frame.final_part[island] = 7
+    for compiled in (False, True):
+        with kernels.use_compiled(compiled), pytest.raises(SunsetError, match="got 7"):
+            codes.encode(scene, frame)
