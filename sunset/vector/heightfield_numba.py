@@ -26,7 +26,7 @@ import numpy as np
 
 from ..constants import SEA
 from ..kernels import jit as _jit
-from ..trig_numba import cos_into
+from ..trig_numba import COS_LIMIT, _ZERO, _pick, _reduce, cos32
 from . import heightfield as _reference
 from .heightfield import _F32, _chebyshev_power, _profile_arrays, _sea_terms
 
@@ -276,6 +276,29 @@ def _sea_coefficients(sea, s, t: float, h: float):
     return b, c, p, n, _F32(const - h)
 
 
+@_jit
+def _cos_phase_into(b, y, c, x, w):
+    """x = b·y + c (multiply, then add) and w = cos x, float32, NumPy's bits (:func:`sunset.trig_numba.cos_into`).
+
+    cos_into's loop, but with no counter of the rare phases in it (a 64-bit
+    counter halves the width LLVM vectorises it at); they are looked for
+    after, in a loop of their own.
+    """
+    N = y.shape[0]
+    for i in range(N):
+        xi = b * y[i] + c
+        x[i] = xi
+        iq, s, cs = _reduce(xi if abs(xi) <= COS_LIMIT else _ZERO)
+        w[i] = _pick(iq + np.int32(1), s, cs)
+    rare = False
+    for i in range(N):
+        rare |= not abs(x[i]) <= COS_LIMIT
+    if rare:
+        for i in range(N):
+            if not abs(x[i]) <= COS_LIMIT:
+                w[i] = cos32(x[i])
+
+
 # sea-profile-row-begin
 @_jit
 def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
@@ -283,9 +306,7 @@ def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
     N = y.shape[0]
     for j in range(b.shape[0]):
         bj, cj, top = b[j, col], c[j], p[j, n[j] - 1]
-        for i in range(N):                   # the phase θ = b_j y + c_j: multiply, then add
-            x[i] = bj * y[i] + cj
-        cos_into(x, w)                       # NumPy's float32 cos θ, bit for bit (not in place: slower)
+        _cos_phase_into(bj, y, cj, x, w)     # θ = b_j y + c_j and NumPy's float32 cos θ, bit for bit
         acc = g if j == 0 else x             # the first train writes the profile: 0 + (−0) is not −0
         for i in range(N):                   # Horner's rule in cos θ, p_0 left for the end
             acc[i] = w[i] * top
