@@ -302,13 +302,16 @@ def _cos_phase_into(b, y, c, x, w):
 # sea-profile-row-begin
 @_jit
 def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
-    """g = sea_profile's scan line ``col``, float32, in the reference's order of operations; x, w: scratch (N,)."""
+    """g = sea_profile's scan line ``col`` in float32 (x, w: scratch)."""
     N = y.shape[0]
     for j in range(b.shape[0]):
         bj, cj, top = b[j, col], c[j], p[j, n[j] - 1]
-        _cos_phase_into(bj, y, cj, x, w)     # θ = b_j y + c_j and NumPy's float32 cos θ, bit for bit
-        acc = g if j == 0 else x             # the first train writes the profile: 0 + (−0) is not −0
-        for i in range(N):                   # Horner's rule in cos θ, p_0 left for the end
+        # θ = b_j y + c_j, and NumPy's float32 cos θ bit for bit
+        _cos_phase_into(bj, y, cj, x, w)
+        # Horner's rule in cos θ (p_0 is added at the end); the first
+        # train writes the profile, the others add (0 + (−0) is not −0)
+        acc = g if j == 0 else x
+        for i in range(N):
             acc[i] = w[i] * top
         for k in range(n[j] - 2, 0, -1):
             pk = p[j, k]
@@ -320,26 +323,26 @@ def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
     if b.shape[0] == 0:
         g[:] = 0
     for i in range(N):
-        g[i] = (g[i] + const) * u32[i]       # (elevation + Σ p_0 − h) · u
+        g[i] = (g[i] + const) * u32[i]   # (elevation + Σ p_0 − h) · u
 
 
 @_jit
-def _sea_columns(b, c, p, n, y, u32, const, u, zeta0, dzeta, inv_dzeta_t, zeta0_t, kf_t, zero_t, K, best_u,
-                 best_surf, code):
-    """Each scan line's profile, scan-converted, the far tail and the depth buffer while it is in cache."""
+def _sea_columns(b, c, p, n, y, u32, const, u, zeta0, dzeta, inv_dz_t, zeta0_t,
+                 kf_t, zero_t, K, best_u, best_surf, code):
+    """Each scan line's profile, then its scan line while it is in cache."""
     N = y.shape[0]
-    x = np.empty(N, dtype=np.float32)
-    w = np.empty(N, dtype=np.float32)
-    g = np.empty(N, dtype=np.float32)
-    row = np.empty(K)
+    x, w, g = np.empty(N, _F32), np.empty(N, _F32), np.empty(N, _F32)
     bins = np.empty(N, dtype=np.int32)
     first = np.empty(K + 1, dtype=np.int64)
+    row = np.empty(K)
     n_tail = 0
     for col in range(b.shape[1]):
         _profile_row(col, b, c, p, n, y, u32, const, x, w, g)
-        _scan_row_b(u, 0, g, 0, N, zeta0, dzeta, inv_dzeta_t, zeta0_t, kf_t, zero_t, K, row, bins, first)
-        n_tail += _merge_row(row, np.float64(g[N - 1]), u[N - 1], zeta0, dzeta, True, best_u[col],
-                             best_surf[col], code, True)
+        _scan_row_b(u, 0, g, 0, N, zeta0, dzeta, inv_dz_t, zeta0_t, kf_t,
+                    zero_t, K, row, bins, first)
+        # the far tail, and the depth buffer (the sea wins ties)
+        n_tail += _merge_row(row, np.float64(g[N - 1]), u[N - 1], zeta0, dzeta,
+                             True, best_u[col], best_surf[col], code, True)
     return n_tail
 # sea-profile-row-end
 
