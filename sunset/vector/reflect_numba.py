@@ -157,17 +157,21 @@ def _pierce_all(q, r, table, h, part_beach, part_cliff, part_hill, best, which, 
     n = q.shape[0]
     n_isl = table.shape[0]
     flags = np.empty((max(n_isl, 1), _BLOCK), np.bool_)
+    # the block's rays component by component (in the cache), for the vectorised bounding tests
+    qx, qy, qz = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
+    rx, ry, rz = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
     horiz = np.empty(_BLOCK)
     for a in range(0, n, _BLOCK):
         m = min(n, a + _BLOCK) - a
         for j in range(m):
-            rx, ry = r[a + j, 0], r[a + j, 1]
-            horiz[j] = math.sqrt(rx * rx + ry * ry)
+            qx[j], qy[j], qz[j] = q[a + j, 0], q[a + j, 1], q[a + j, 2]
+            rx[j], ry[j], rz[j] = r[a + j, 0], r[a + j, 1], r[a + j, 2]
+        for j in range(m):
+            horiz[j] = math.sqrt(rx[j] * rx[j] + ry[j] * ry[j])
         for i in range(n_isl):
             X, Y, rho, top_h = table[i, 0], table[i, 1], table[i, 12], table[i, 13]
             for j in range(m):
-                flags[i, j] = _is_candidate(q[a + j, 0], q[a + j, 1], q[a + j, 2], r[a + j, 0], r[a + j, 1],
-                                            r[a + j, 2], horiz[j], X, Y, rho, top_h)
+                flags[i, j] = _is_candidate(qx[j], qy[j], qz[j], rx[j], ry[j], rz[j], horiz[j], X, Y, rho, top_h)
         for j in range(m):
             k = a + j
             for i in range(n_isl):
