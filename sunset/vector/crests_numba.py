@@ -213,16 +213,17 @@ def sea_rays(surface, point, direction, normal, sea_code, second, crest, amps, w
     Fills ``flat`` (row-major pixel index), ``q``, ``r`` (float64, after
     |R_z|) and ``bounces``; with ``record``, ``incidence`` and
     ``sea_rays_out`` at those pixels. Returns the lowest origin of a ray
-    heading up (+inf: none), as the island table needs. Three passes, as
+    heading up (+inf: none), as the island table needs. Two passes, as
     the reference's compress: reflect every ray and test it against its
-    crest; pierce the candidates' crests and reflect the hits again; fold
-    R_z up.
+    crest; pierce the candidates' crests and reflect the hits again. R_z is
+    folded up where a ray is final (a candidate's after its crest).
     """
     H, W = surface.shape
     n = q.shape[0]
     cand = np.empty(n if second else 0, np.intp)
     psi = np.empty(n if second else 0)
     n_cand = 0
+    z0 = np.inf
     j = 0
     for yy in range(H):
         for xx in range(W):
@@ -254,12 +255,18 @@ def sea_rays(surface, point, direction, normal, sea_code, second, crest, amps, w
                 sea_rays_out[yy, xx, 0, 0] = rx
                 sea_rays_out[yy, xx, 0, 1] = ry
                 sea_rays_out[yy, xx, 0, 2] = rz
+            keep = False
             if second:
                 keep, ps = crest_phase(qx, qy, rx, ry, rz, crest)
                 if keep:
                     cand[n_cand] = j
                     psi[n_cand] = ps
                     n_cand += 1
+            if not keep:                      # final: fold R_z up (a candidate's, after its crest)
+                rz = abs(rz)
+                r[j, 2] = rz
+                if rz >= 0.0 and q[j, 2] < z0:
+                    z0 = q[j, 2]
             j += 1
     for c in range(n_cand):
         j = cand[c]
@@ -292,8 +299,6 @@ def sea_rays(surface, point, direction, normal, sea_code, second, crest, amps, w
             r[j, 1] = sy
             r[j, 2] = sz
             bounces[j] = 2
-    z0 = np.inf
-    for j in range(n):
         rz = abs(r[j, 2])
         r[j, 2] = rz
         if rz >= 0.0 and q[j, 2] < z0:
