@@ -72,7 +72,7 @@ def harmonic_sum(amps, c):
     """Σ_n a_n cos nθ from c = cos θ, by the Chebyshev recurrence T_(n+1) = 2c T_n − T_(n−1).
 
     One cosine per ray instead of one per harmonic (the speed-up the paper
-    suggests for the Stokes series); :mod:`sunset.vector.reflect_numba` does the same
+    suggests for the Stokes series); :mod:`sunset.vector.crests_numba` does the same
     operations in the same order.
     """
     c = np.asarray(c, dtype=float)
