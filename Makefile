@@ -63,7 +63,17 @@ lock: $(UV)
 # ---------------------------------------------------------------- figures and film
 # One rule per file in figures/, with the package modules its builder imports
 # (found by sunset/figures/deps.py, regenerated whenever a source changes).
+# Under `make figures` (or `make all`) a stale file's rule only names its figure
+# ($(call figure,NAME[,READERS]): READERS read its files, as Figure 7 reads
+# fig6.tape), and `figures` then makes every named one in ONE
+# `sunset figures --only ...` process, all or nothing; a file asked for by
+# itself (`make figures/fig2.png`) is made by its own process.
 FIGURE_ENV := $(VENV)/.stamp-test
+STALE_FIGURES :=
+comma := ,
+empty :=
+space := $(empty) $(empty)
+figure = $(eval STALE_FIGURES += $(1) $(2))$(if $(filter figures all,$(MAKECMDGOALS)),,$(SUNSET) figures --only $(1) --out figures $(FIGURE_FLAGS))
 SOURCES    := $(shell find sunset -name '*.py' -o -name '*.toml')
 
 figures/.deps.mk: $(SOURCES)
@@ -75,6 +85,7 @@ ifneq ($(filter-out clean,$(or $(MAKECMDGOALS),help)),)
 endif
 
 figures: $(FIGURE_FILES)
+	$(if $(strip $(STALE_FIGURES)),$(SUNSET) figures --only $(subst $(space),$(comma),$(sort $(STALE_FIGURES))) --out figures $(FIGURE_FLAGS),@echo "make: figures/ is up to date")
 
 # ---------------------------------------------------------------- the book
 BOOK_SOURCES := $(wildcard book/*.md book/*.yml book/*.bib book/*.py book/images/* book/data/*) $(SOURCES)

@@ -41,3 +41,66 @@ def test_make_help_lists_every_documented_target():
                          check=True).stdout
     for target in ("all", "figures", "test", "book", "book-check", "pdf", "bench", "bench-player", "lock", "clean"):
         assert f"make {target} " in out, target
+
+
+def _figure_project(tmp_path) -> Path:
+    """A scratch copy of the Makefile with three figure rules of the generated kind and an up-to-date environment."""
+    import os
+    import time
+
+    shutil.copy(ROOT / "Makefile", tmp_path / "Makefile")
+    for rel in ("pyproject.toml", "requirements/test.lock", "src/a.txt", "src/b.txt", "src/c.txt",
+                ".venv/bin/python", ".venv/.stamp-test"):
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text("x", encoding="utf-8")
+    (tmp_path / "figures").mkdir()
+    (tmp_path / "sunset").mkdir()
+    rules = ["FIGURE_FILES := figures/a.png figures/b.png figures/b.tape figures/c.png", ""]
+    for name, deps in (("a", "src/a.txt"), ("b", "src/b.txt"), ("c", "src/c.txt figures/b.tape")):
+        target = "figures/b.png figures/b.tape &:" if name == "b" else f"figures/{name}.png:"
+        recipe = "$(call figure,b,c)" if name == "b" else f"$(call figure,{name})"      # c reads b's tape
+        rules += [f"{target} {deps} $(FIGURE_ENV)", f"\t{recipe}", ""]
+    (tmp_path / "figures/.deps.mk").write_text("\n".join(rules), encoding="utf-8")
+    past = time.time() - 100
+    for rel in ("pyproject.toml", "requirements/test.lock", "src/a.txt", "src/b.txt", "src/c.txt", ".venv/bin/python"):
+        os.utime(tmp_path / rel, (past, past))
+    return tmp_path
+
+
+def _make(folder: Path, *goals: str) -> list[str]:
+    """The sunset commands `make` runs (SUNSET echoes them), one per line."""
+    out = subprocess.run(["make", "-s", "-C", str(folder), "SUNSET=echo RUN", *goals], capture_output=True,
+                         text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    return [line for line in out.stdout.splitlines() if line.startswith("RUN")]
+
+
+def _write(folder: Path, *names: str) -> None:
+    for name in names:
+        (folder / "figures" / name).write_text("made", encoding="utf-8")
+
+
+def test_make_figures_makes_every_stale_figure_in_one_process(tmp_path):
+    """`make figures` runs ONE `sunset figures --only ...` with just the stale figures; none when all are fresh."""
+    import os
+    import time
+
+    folder = _figure_project(tmp_path)
+    assert _make(folder, "figures") == ["RUN figures --only a,b,c --out figures"]
+    _write(folder, "a.png", "b.png", "b.tape", "c.png")
+    assert _make(folder, "figures") == []                                        # nothing to do: no process
+
+    def older(*names):                                # the figure made before its source changed
+        old = time.time() - 200
+        for name in names:
+            os.utime(folder / "figures" / name, (old, old))
+
+    older("a.png")
+    assert _make(folder, "figures") == ["RUN figures --only a --out figures"]
+    _write(folder, "a.png")
+    older("b.png", "b.tape")
+    assert _make(folder, "figures") == ["RUN figures --only b,c --out figures"]  # c re-exposes b's tape
+    _write(folder, "b.png", "b.tape", "c.png")
+    # a file asked for by itself is made by its own process
+    (folder / "figures/a.png").unlink()
+    assert _make(folder, "figures/a.png") == ["RUN figures --only a --out figures"]

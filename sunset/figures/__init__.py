@@ -77,7 +77,8 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
     if name == "clouds":
         from .future import clouds_figure
         from .future import clouds_rgb_figure
-        return [clouds_figure(out / "clouds.png", scene, seed=seed), clouds_rgb_figure(out / "clouds-rgb.png", scene)]
+        rgb = clouds_rgb_figure(out / "clouds-rgb.png", scene)       # first: clouds.png codes its traced frame
+        return [clouds_figure(out / "clouds.png", scene, seed=seed), rgb]
     if name == "ripples":
         from .future import ripples_figure
         return [ripples_figure(out / "ripples.png", seed=seed)]
@@ -171,14 +172,26 @@ def _make_all(names, out: Path, scene, log=print, **kw) -> list[Path]:
         stage = Path(tempfile.mkdtemp(prefix=f".sunset-{os.getpid()}-", suffix=".part", dir=out))
     except OSError as exc:
         raise SunsetError(f"{out}: cannot write figures there ({exc.strerror or exc})") from None
+    from . import shared
+    from .lanes import SideLane, split
+
+    here, side = split(names, kw.get("workers"))
+    lane = None
     try:
+        made: dict[str, list[Path]] = {}
+        with shared.sharing():                 # frames, codes and lights computed once (sunset.figures.shared)
+            if side:                           # the film beside the rest, on the other core (sunset.figures.lanes)
+                lane = SideLane(side, lambda n: make_figure(n, stage, scene, reuse_from=out, **kw)).start()
+            for name in here:
+                start = time.perf_counter()
+                made[name] = make_figure(name, stage, scene, reuse_from=out, **kw)
+                _logged(log, name, made[name], out, time.perf_counter() - start)
+            for name, files, seconds in (lane.results() if lane else []):
+                made[name] = [Path(f) for f in files]
+                _logged(log, name, made[name], out, seconds)
         written = []
         for name in names:
-            start = time.perf_counter()
-            files = make_figure(name, stage, scene, reuse_from=out, **kw)
-            written += [f for f in files if f not in written]
-            log(f"{FIGURES[name][1]}: {', '.join(str(out / f.name) for f in files)} "
-                f"({time.perf_counter() - start:.1f} s)")
+            written += [f for f in made[name] if f not in written]
         extra = [p for p in sorted(stage.iterdir()) if p not in written]       # fig6.tape and the like
         targets = [out / p.name for p in written + extra]
         for target in targets:                # every target replaceable before the first one is replaced
@@ -186,5 +199,11 @@ def _make_all(names, out: Path, scene, log=print, **kw) -> list[Path]:
         check_stop()
         land_in(written + extra, out)
     finally:
+        if lane is not None:
+            lane.stop()
         shutil.rmtree(stage, ignore_errors=True)
     return [out / p.name for p in written]
+
+
+def _logged(log, name: str, files, out: Path, seconds: float) -> None:
+    log(f"{FIGURES[name][1]}: {', '.join(str(out / f.name) for f in files)} ({seconds:.1f} s)")

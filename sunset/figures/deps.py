@@ -1,7 +1,7 @@
 """Which source files each figure file depends on: the Makefile's rules.
 
-``make figures`` builds each file in ``figures/`` with its own rule, so that
-make rebuilds only what is out of date. This module writes those rules
+``make figures`` has one rule for each file in ``figures/``, so that make
+rebuilds only what is out of date. This module writes those rules
 (``make`` writes them to ``figures/.deps.mk`` and includes them): each figure file depends
 on the package modules its builder can import, found statically by following
 the ``import`` statements (also those inside functions) through the package,
@@ -10,7 +10,15 @@ and on the scene it renders.
 A name imported from a package (``from ..model import Scene``) is followed to
 the module that defines it when the package's ``__init__.py`` re-exports it,
 so that a package ``__init__`` does not make every figure depend on every
-module. The module runs with the standard library alone (the Makefile runs it
+module.
+
+A rule's recipe is ``$(call figure,NAME[,READERS])`` (the Makefile defines
+it): under ``make figures`` or ``make all`` it only adds NAME (and the figures
+that read its files, :data:`READS`) to the figures out of date,
+and ``figures`` then makes all of them in ONE ``sunset figures --only ...``
+process (the imports, the compiled kernels, the shared frames and both cores
+are paid for once); a file asked for by itself (``make figures/fig2.png``) is
+made by its own process. The module runs with the standard library alone (the Makefile runs it
 before the environment exists): ``python3 sunset/figures/deps.py``.
 """
 
@@ -44,6 +52,10 @@ TARGETS: dict[str, tuple[str, str]] = {
 
 #: Files a figure rule writes besides its target (same rule, grouped).
 ALSO_WRITES = {"fig6.png": ("fig6.tape",), "film.mp4": ("film-preview.webp",), "clouds.png": ("clouds-rgb.png",)}
+
+#: Figures that read a file another rule writes (Figure 7 re-exposes Figure 6's tape): under ``make figures``
+#: the writer's rule names the reader too, since rewriting the file makes the reader out of date.
+READS = {"7": "fig6.tape"}
 
 #: Figures that do not render the default scene (Figure 2 plots Stokes waves; the ripples have their own scene).
 NO_SCENE = {"2", "ripples"}
@@ -164,11 +176,13 @@ def rules(out: str = "figures") -> str:
              f"FIGURE_FILES := {' '.join(f'{out}/{t}' for t in TARGETS)} "
              + " ".join(f"{out}/{x}" for xs in ALSO_WRITES.values() for x in xs), ""]
     for target, (figure, _) in TARGETS.items():
-        outputs = " ".join(f"{out}/{x}" for x in (target, *ALSO_WRITES.get(target, ())))
+        files = (target, *ALSO_WRITES.get(target, ()))
+        outputs = " ".join(f"{out}/{x}" for x in files)
         grouped = " &:" if target in ALSO_WRITES else ":"
-        extra = f" {out}/fig6.tape" if figure == "7" else ""
+        extra = f" {out}/{READS[figure]}" if figure in READS else ""
+        readers = " ".join(name for name, read in READS.items() if read in files)
         lines.append(f"{outputs}{grouped} {' '.join(dependencies(target))}{extra} $(FIGURE_ENV)")
-        lines.append(f"\t$(SUNSET) figures --only {figure} --out {out} $(FIGURE_FLAGS)")
+        lines.append(f"\t$(call figure,{figure}{',' + readers if readers else ''})")
         lines.append("")
     return "\n".join(lines)
 

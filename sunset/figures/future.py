@@ -40,12 +40,12 @@ def cloudy(scene: Scene) -> Scene:
 
 def clouds_figure(path, scene: Scene, seed: int = 0, t: float = 0.0) -> Path:
     """Write ``clouds.png``: the cloudy scene's tape exposed at both :data:`CLOUD_HOURS`, side by side."""
+    from . import shared
     from .paper import png_metadata
     from ..recorder.dicomed import expose
-    from ..tape.cycle import code_frame
 
     scene = cloudy(scene)
-    codes = code_frame(scene, t, 2, seed)
+    codes = shared.codes(scene, t, 2, seed)              # from clouds-rgb.png's frame when it was traced first
     rgb = _pair(expose(scene, codes, CLOUD_HOURS[0]), expose(scene, codes, CLOUD_HOURS[1]))
     settings = {"t": t, "reflections": 2, "seed": seed, "hours": list(CLOUD_HOURS), "figure": "clouds"}
     return save_png(path, rgb, png_metadata(scene, settings))
@@ -53,13 +53,17 @@ def clouds_figure(path, scene: Scene, seed: int = 0, t: float = 0.0) -> Path:
 
 def clouds_rgb_figure(path, scene: Scene, t: float = 0.0) -> Path:
     """Write ``clouds-rgb.png``: the cloudy scene from the RGB back end at both :data:`CLOUD_HOURS`."""
+    from . import shared
     from .paper import png_metadata
+    from ..light.budget import check_rgb_work
+    from ..light.geometry import Geometry
     from ..light.lighting import Lighting
     from ..light.output import to_uint8
-    from ..light.render import shade_display, trace_geometry
+    from ..light.render import shade_display
 
     scene = cloudy(scene)
-    geometry = trace_geometry(scene, t, 2)                 # traced once, shaded for each hour
+    check_rgb_work(scene, 1)
+    geometry = Geometry.from_frame(shared.frame(scene, t, 2))    # traced once, shaded for each hour
     a, b = (to_uint8(shade_display(geometry, Lighting.for_scene(scene, h))) for h in CLOUD_HOURS)
     settings = {"t": t, "reflections": 2, "shading": "rgb", "hours": list(CLOUD_HOURS), "figure": "clouds-rgb"}
     return save_png(path, _pair(a, b), png_metadata(scene, settings))

@@ -17,8 +17,8 @@ from .. import __version__
 from ..recorder.dicomed import expose
 from ..errors import require_int_range
 from ..io import save_png
-from ..tape.cycle import code_frame
 from ..model.scene import Scene
+from . import shared
 from ..tape.tapefile import Tape, read_tape, write_tape
 
 #: Hours before sunset for the sunset figures (4, 5, 6) and for Figure 7.
@@ -60,15 +60,17 @@ def png_metadata(scene: Scene, settings: dict) -> dict[str, str]:
 
 
 def render_tape(scene: Scene, t: float, reflections: int, seed: int) -> Tape:
-    """The vector stage for one frame: render, then code to 8 bits."""
-    codes = code_frame(scene, t, reflections, seed)
+    """The vector stage for one frame: render, then code to 8 bits (:func:`sunset.figures.shared.codes`)."""
+    codes = shared.codes(scene, t, reflections, seed)
     return Tape(scene=scene, codes=codes[None], times=np.array([t]), reflections=reflections, seed=seed)
 
 
-def expose_png(tape: Tape, hours: float, path: Path, frame: int = 0, extra: dict | None = None) -> Path:
-    """The film-recorder stage for one frame of a tape, written as a PNG."""
+def expose_png(tape: Tape, hours: float, path: Path, frame: int = 0, extra: dict | None = None,
+               rgb: np.ndarray | None = None) -> Path:
+    """The film-recorder stage for one frame of a tape, written as a PNG (``rgb``: that exposure, made already)."""
     require_int_range("frame", frame, 0, len(tape) - 1)
-    rgb = expose(tape.scene, tape.codes[frame], hours)
+    if rgb is None:
+        rgb = expose(tape.scene, tape.codes[frame], hours)
     settings = {"t": float(tape.times[frame]), "reflections": tape.reflections, "seed": tape.seed,
                 "hours": float(hours), **(extra or {})}
     return save_png(path, rgb, png_metadata(tape.scene, settings))
@@ -100,6 +102,7 @@ def paper_figure(number: str, out: Path, scene: Scene, seed: int = 0,
         if same and float(cached.times[0]) == t:
             tape = cached
             break
+    rgb = None
     if tape is None:
         src = PAPER_FIGURES[source]
         source_scene = scene.still() if src.still else scene
@@ -107,5 +110,7 @@ def paper_figure(number: str, out: Path, scene: Scene, seed: int = 0,
         # another figure re-exposes it
         if any(f.reuses == source for f in PAPER_FIGURES.values()):
             write_tape(tape_path, tape)
+        # (the RGB Figure 6 shows the same exposure beside its own)
+        rgb = shared.exposure(source_scene, t, src.reflections, seed, spec.hours)
     return expose_png(tape, spec.hours, out / f"fig{number}.png",
-                      extra={"figure": number})
+                      extra={"figure": number}, rgb=rgb)

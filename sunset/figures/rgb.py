@@ -29,20 +29,25 @@ GAP = 8
 def figure6_frames(scene, hours: float = SUNSET_HOURS, seed: int = 0, t: float = 0.0):
     """Figure 6's frame: (8-bit exposure uint8, RGB at 1 sample linear, codes, the sun-disk rule's pixels).
 
-    The codes and the 1-sample RGB frame come from the same traced frame.
+    The codes and the 1-sample RGB frame come from the same traced frame (:mod:`sunset.figures.shared`:
+    the exposure is Figure 6's when it was made in the same run).
     """
-    from ..tape.codes import encode
-    from ..recorder.dicomed import expose
     from ..light.geometry import Geometry
-    from ..light.lighting import Lighting
     from ..light.render import shade_display
-    from ..vector.render import render
+    from . import shared
 
-    frame = render(scene, t, 2)
-    codes = encode(scene, frame, seed=seed)
-    light = Lighting.for_scene(scene, hours)
-    rgb1 = shade_display(Geometry.from_frame(frame), light)
-    return expose(scene, codes, hours), rgb1, codes, sun_disk_pixels(scene, codes, hours)
+    frame = shared.frame(scene, t, 2)
+    codes = shared.codes(scene, t, 2, seed)
+    rgb1 = shade_display(Geometry.from_frame(frame), _lighting(scene, hours))
+    return shared.exposure(scene, t, 2, seed, hours), rgb1, codes, sun_disk_pixels(scene, codes, hours)
+
+
+def _lighting(scene, hours: float):
+    """The light of the hour (:meth:`~sunset.light.lighting.Lighting.for_scene`), shared by the figures of a run."""
+    from ..light.lighting import Lighting
+    from . import shared
+
+    return shared.once("lighting", (scene, float(hours)), lambda: Lighting.for_scene(scene, float(hours)))
 
 
 def sun_disk_pixels(scene, codes, hours: float) -> np.ndarray:
@@ -60,17 +65,14 @@ def sun_disk_pixels(scene, codes, hours: float) -> np.ndarray:
 def rgb_figure6(path, scene, hours: float = SUNSET_HOURS, seed: int = 0, t: float = 0.0,
                 samples: int = RGB_SAMPLES) -> Path:
     """Write the paint-by-numbers Figure 6 and the RGB one side by side (a white gap between)."""
-    from ..tape.codes import encode
-    from ..recorder.dicomed import expose
-    from ..light.lighting import Lighting
     from ..light.output import to_uint8
     from ..light.render import check_samples, shade_display, trace_geometry
-    from ..vector.render import render
+    from . import shared
 
     path = check_writable(path)
     k = check_samples(samples)
-    pbn = expose(scene, encode(scene, render(scene, t, 2), seed=seed), hours)
-    rgb = to_uint8(shade_display(trace_geometry(scene, t, 2, samples), Lighting.for_scene(scene, hours), k))
+    pbn = shared.exposure(scene, t, 2, seed, hours)          # Figure 6's picture, when it was made in this run
+    rgb = to_uint8(shade_display(trace_geometry(scene, t, 2, samples), _lighting(scene, hours), k))
     h, w = pbn.shape[:2]
     both = np.full((h, 2 * w + GAP, 3), 255, np.uint8)
     both[:, :w] = pbn

@@ -369,20 +369,24 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
     (``sunset film --shading rgb``); see :func:`write_film` for the formats.
     Both files are written atomically and land together (or neither does).
     """
+    from concurrent.futures import ThreadPoolExecutor
+
     from ..io import atomic_write
     from ..provenance import provenance_json
 
     step = max(1, -(-total // PREVIEW_FRAMES))
     preview = []
     size = (size[0] + size[0] % 2, size[1] + size[1] % 2)
-    with atomic_write(path_mp4) as tmp, _bar(total, "filming", progress) as bar, _quiet_ffmpeg_log():
+
+    with atomic_write(path_mp4) as tmp, _bar(total, "filming", progress) as bar, _quiet_ffmpeg_log(), \
+            ThreadPoolExecutor(max_workers=1, thread_name_prefix="preview") as shrink:
         try:
             writer = _mp4_writer(tmp, size, fps)
             try:
                 for j, rgb in enumerate(frames):
+                    if path_preview is not None and j % step == 0:     # shrunk on a thread while the film is fed
+                        preview.append(shrink.submit(_preview_image, rgb, preview_width))
                     writer.send(_even(rgb))
-                    if path_preview is not None and j % step == 0:
-                        preview.append(_preview_image(rgb, preview_width))
                     bar.update(1)
             finally:
                 writer.close()
@@ -390,6 +394,7 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
             raise SunsetError(f"{path_mp4}: cannot write the film (the encoder stopped: "
                               f"{str(exc).splitlines()[0] if str(exc).strip() else 'no reason given'})") from None
         _check_encoded(tmp, path_mp4, total)
+        preview = [f.result() for f in preview]
     written = [Path(path_mp4)]
     if path_preview is not None:
         import io
