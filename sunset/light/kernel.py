@@ -141,8 +141,12 @@ def display_pixels(xyz, scale, m, exponent, semi_saturation) -> np.ndarray:
 
     The same response (the eye's Naka–Rushton curve on Y, chromaticity kept,
     bleaching towards white above full scale) with the XYZ → sRGB matrix ``m``
-    (:func:`sunset.light.tone.xyz_to_rgb_matrix`) spelt out; the power
-    yⁿ is NumPy's on both paths, so the twin gives the same bytes.
+    (:func:`sunset.light.tone.xyz_to_rgb_matrix`) spelt out. The twin
+    computes yⁿ with libm's ``pow`` inside one fused pass where that is
+    NumPy's power bit for bit (checked once per exponent on a probe,
+    :func:`sunset.light.kernel_numba.fused_power`; it is for the eye's 0.6
+    on x86-64 with glibc), and with NumPy's power between two passes
+    elsewhere, so it gives the same bytes either way.
     """
     x = np.asarray(xyz, np.float64) / scale
     lin, y = _linear_rgb(x, m)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -10,7 +11,7 @@ from ..kernels import jit
 from .kernel import PHASE_NORM
 from .water import PHASE_ANISOTROPY
 
-__all__ = ["sky_pixels", "island_pixels", "combine", "display_pixels", "display_box"]
+__all__ = ["sky_pixels", "island_pixels", "combine", "display_pixels", "display_box", "fused_power"]
 
 
 @jit
@@ -182,10 +183,92 @@ def _respond_box(lin, y, a, s_n, k, wk, out):
             out[r, c, 2] = s2 / kk
 
 
+@jit
+def _display_fused(flat, scale, m, e, s_n, k, wk, out):
+    """:func:`_linear_rgb`, yⁿ and :func:`_respond_box` (the same operations), one row of output pixels at a
+    time: the k input rows' linear RGB and Y, their powers in one tight loop, then the response and the box."""
+    kk = k * k
+    n_row = k * wk
+    lin = np.empty((n_row, 3))
+    y = np.empty(n_row)
+    a = np.empty(n_row)
+    for r in range(out.shape[0]):
+        base = r * n_row
+        for q in range(n_row):
+            x0 = np.float64(flat[base + q, 0]) / scale
+            x1 = np.float64(flat[base + q, 1]) / scale
+            x2 = np.float64(flat[base + q, 2]) / scale
+            for c in range(3):
+                lin[q, c] = max(x0 * m[0, c] + x1 * m[1, c] + x2 * m[2, c], 0.0)
+            y[q] = max(x1, 0.0)
+        for q in range(n_row):
+            a[q] = y[q] ** e
+        for c in range(out.shape[1]):
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            for i in range(k):
+                for j in range(k):
+                    q = i * wk + c * k + j
+                    v0, v1, v2 = _respond_one(lin[q, 0], lin[q, 1], lin[q, 2], y[q], a[q], s_n)
+                    if i == 0 and j == 0:
+                        s0 = v0
+                        s1 = v1
+                        s2 = v2
+                    else:
+                        s0 += v0
+                        s1 += v1
+                        s2 += v2
+            out[r, c, 0] = s0 / kk
+            out[r, c, 1] = s1 / kk
+            out[r, c, 2] = s2 / kk
+
+
+@jit
+def _pow_into(y, e, out):
+    for i in range(y.shape[0]):
+        out[i] = y[i] ** e
+
+
+#: Where :func:`fused_power` checks compiled yⁿ against NumPy's: 2¹⁷ values spread log-uniformly over
+#: 10⁻³⁰ … 10¹², the integers 0 … 4096, and zeros, subnormals, 1, the largest float and infinity.
+_PROBE_SEED = 15
+
+
+def _probe() -> np.ndarray:
+    rng = np.random.default_rng(_PROBE_SEED)
+    spread = 10.0 ** rng.uniform(-30.0, 12.0, 1 << 17)
+    edges = np.array([0.0, 5e-324, 1e-310, 1.0, np.finfo(float).max, np.inf])
+    return np.concatenate([spread, np.arange(4097.0), edges])
+
+
+@functools.lru_cache(maxsize=None)
+def fused_power(exponent: float) -> bool:
+    """Whether compiled ``y ** exponent`` (libm's ``pow``) gives NumPy's ``np.power(y, exponent)`` bit for bit here.
+
+    The one place that chooses the display twins' path: fused (:func:`_display_fused`) where it holds,
+    else with NumPy's power between two compiled passes. NumPy computes some exponents its own way
+    (0.5 as a square root, 2 as a product, and on CPUs with AVX-512 its own vector ``pow``), so the
+    answer is checked once per exponent and process on :func:`_probe` (the tests check that it finds
+    the difference at 0.5).
+    """
+    y = _probe()
+    with np.errstate(all="ignore"):                  # (overflow to inf is part of the check)
+        want = np.power(y, float(exponent))
+    got = np.empty_like(y)
+    _pow_into(y, float(exponent), got)
+    return bool(np.array_equal(want.view(np.int64), got.view(np.int64)))
+
+
 def display_pixels(xyz, scale, m, exponent, semi_saturation) -> np.ndarray:
-    """:func:`sunset.light.kernel.display_pixels`, compiled (the power yⁿ stays NumPy's)."""
+    """:func:`sunset.light.kernel.display_pixels`, compiled (one pass where :func:`fused_power` holds)."""
     xyz = np.ascontiguousarray(xyz)
     n = xyz.shape[0]
+    if fused_power(float(exponent)):
+        out = np.empty((1, n, 3))
+        _display_fused(xyz, float(scale), np.ascontiguousarray(m, np.float64), float(exponent),
+                       semi_saturation ** exponent, 1, n, out)
+        return out.reshape(n, 3)
     lin = np.empty((n, 3))
     y = np.empty(n)
     _linear_rgb(xyz, float(scale), np.ascontiguousarray(m, np.float64), lin, y)
@@ -196,14 +279,18 @@ def display_pixels(xyz, scale, m, exponent, semi_saturation) -> np.ndarray:
 
 
 def display_box(xyz, scale, m, exponent, semi_saturation, k: int) -> np.ndarray:
-    """:func:`sunset.light.kernel.display_box`, compiled (the power yⁿ stays NumPy's)."""
+    """:func:`sunset.light.kernel.display_box`, compiled (one pass where :func:`fused_power` holds)."""
     hk, wk = xyz.shape[:2]
     flat = np.ascontiguousarray(xyz).reshape(-1, 3)
+    out = np.empty((hk // k, wk // k, 3))
+    if fused_power(float(exponent)):
+        _display_fused(flat, float(scale), np.ascontiguousarray(m, np.float64), float(exponent),
+                       semi_saturation ** exponent, int(k), wk, out)
+        return out
     n = flat.shape[0]
     lin = np.empty((n, 3))
     y = np.empty(n)
     _linear_rgb(flat, float(scale), np.ascontiguousarray(m, np.float64), lin, y)
     a = np.power(y, exponent)
-    out = np.empty((hk // k, wk // k, 3))
     _respond_box(lin, y, a, semi_saturation ** exponent, int(k), wk, out)
     return out

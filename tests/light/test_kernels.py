@@ -182,3 +182,54 @@ def test_the_geometry_is_the_same_bytes_on_every_path_and_thread_count(frames):
 def test_keeping_freed_memory_can_be_turned_off(monkeypatch):
     monkeypatch.setenv("SUNSET_KEEP_MEMORY", "0")
     assert kernels.keep_freed_memory() is False
+
+
+# --------------------------------------------------------------------------- the fused response (issue 15)
+from sunset.light import kernel_numba  # noqa: E402
+
+
+def test_the_power_probe_finds_where_numpy_computes_its_own_way():
+    """NumPy takes y**0.5 as a square root and y**2 as a product, not libm's pow: the probe must see it."""
+    assert kernel_numba.fused_power(0.5) is False
+    assert kernel_numba.fused_power(2.0) is False
+
+
+def _hard_xyz(shape, seed):
+    rng = np.random.default_rng(seed)
+    xyz = np.exp(rng.normal(-3, 4, shape + (3,))).astype(np.float32)
+    flat = xyz.reshape(-1, 3)
+    flat[:7] = [[0, 0, 0], [1, 0, 1], [1e30, 1e30, 1e30], [1e-30, 1e-30, 1e-30], [0, 1e-13, 0], [5, -1, 2],
+                [1e9, 1e9, 1e-9]]
+    return xyz
+
+
+@pytest.mark.parametrize("exponent", [0.6, 0.5, 0.73])
+def test_the_fused_twin_gives_the_references_bytes(exponent, monkeypatch):
+    """One pass (yⁿ compiled) where the probe allows it, NumPy's power otherwise: the reference's bytes both ways."""
+    m = xyz_to_rgb_matrix()
+    for k, shape in ((1, (37, 41)), (2, (30, 44)), (3, (27, 33))):
+        xyz = _hard_xyz(shape, k)
+        want = kernel.display_box.reference(xyz, 0.7, m, exponent, 2.0, k)
+        flat = xyz.reshape(-1, 3)
+        want_px = kernel.display_pixels.reference(flat, 0.7, m, exponent, 2.0)
+        for fused in (True, False):
+            if fused and not kernel_numba.fused_power(exponent):
+                continue
+            monkeypatch.setattr(kernel_numba, "fused_power", lambda e, fused=fused: fused)
+            assert kernel.display_box.compiled()(xyz, 0.7, m, exponent, 2.0, k).tobytes() == want.tobytes()
+            assert kernel.display_pixels.compiled()(flat, 0.7, m, exponent, 2.0).tobytes() == want_px.tobytes()
+            monkeypatch.undo()
+    if exponent == 0.5:      # here the fused loop would differ, which is why the probe turns it off
+        xyz = _hard_xyz((256, 256), 9)
+        want = kernel.display_box.reference(xyz, 0.7, m, 0.5, 2.0, 1)
+        monkeypatch.setattr(kernel_numba, "fused_power", lambda e: True)
+        assert kernel.display_box.compiled()(xyz, 0.7, m, 0.5, 2.0, 1).tobytes() != want.tobytes()
+
+
+def test_the_eyes_exponent_takes_the_fused_path_here():
+    """On this project's machines (x86-64 with AVX2, glibc) NumPy's float64 power is libm's pow."""
+    from sunset.constants import EYE_RESPONSE_EXPONENT
+
+    if not kernels.enabled():
+        pytest.skip("Numba is off")
+    assert kernel_numba.fused_power(EYE_RESPONSE_EXPONENT) is True
