@@ -15,7 +15,11 @@ from sunset.model.scene import Scene
 
 SMALL = Scene.default().with_size(40, 32)
 
-needs_fork = pytest.mark.skipif(not _can_fork(), reason="processes cannot be forked safely here")
+@pytest.fixture
+def needs_fork():
+    """Asked when the test runs (a thread started by an earlier test can make forking unsafe on Python 3.12+)."""
+    if not _can_fork():
+        pytest.skip("processes cannot be forked safely here")
 
 
 def files(folder: Path) -> dict[str, bytes]:
@@ -31,8 +35,7 @@ def test_split_puts_the_film_beside_the_rest_only_with_two_workers():
     assert split(["2", "6"], 2) == (["2", "6"], [])
 
 
-@needs_fork
-def test_two_lanes_make_the_same_bytes_as_one(tmp_path):
+def test_two_lanes_make_the_same_bytes_as_one(tmp_path, needs_fork):
     logs = {1: [], 2: []}
     for workers in (1, 2):
         made = make_figures(tmp_path / str(workers), only="2,film,6", scene=SMALL, progress=False,
@@ -43,8 +46,7 @@ def test_two_lanes_make_the_same_bytes_as_one(tmp_path):
     assert not [p for p in (tmp_path / "2").iterdir() if p.name.startswith(".sunset-")]
 
 
-@needs_fork
-def test_an_error_in_the_second_process_lands_nothing(tmp_path, monkeypatch):
+def test_an_error_in_the_second_process_lands_nothing(tmp_path, monkeypatch, needs_fork):
     out = tmp_path / "figs"
     out.mkdir()
     (out / "fig2.png").write_bytes(b"an older figure 2")
@@ -61,8 +63,7 @@ def test_an_error_in_the_second_process_lands_nothing(tmp_path, monkeypatch):
     assert files(out) == {"fig2.png": b"an older figure 2"}
 
 
-@needs_fork
-def test_a_bug_in_the_second_process_is_reported_with_its_trace(tmp_path, monkeypatch):
+def test_a_bug_in_the_second_process_is_reported_with_its_trace(tmp_path, monkeypatch, needs_fork):
     def buggy(*_, **__):
         raise ValueError("a bug on purpose")
 
@@ -73,8 +74,7 @@ def test_a_bug_in_the_second_process_is_reported_with_its_trace(tmp_path, monkey
     assert not (tmp_path / "figs").exists()
 
 
-@needs_fork
-def test_an_error_here_stops_the_second_process(tmp_path, monkeypatch):
+def test_an_error_here_stops_the_second_process(tmp_path, monkeypatch, needs_fork):
     """A figure of this lane fails while the film is being made: the film's process is ended, nothing lands."""
     import sunset.figures.fig2 as fig2
 
