@@ -129,62 +129,58 @@ def sin32(x):
 
 
 @_jit
+def _rare(x, limit):
+    """Whether any |x[i]| exceeds ``limit`` or is NaN (a loop of its own: a counter in the main loop
+    halves the width LLVM vectorises it at)."""
+    rare = False
+    for i in range(x.shape[0]):
+        rare |= not abs(x[i]) <= limit
+    return rare
+
+
+@_jit
 def cos_into(x, out):
     """out[i] = cos x[i] for 1-D float32 arrays (may be the same array); returns out.
 
-    The main loop has no branch, so LLVM vectorises it; elements beyond the
-    limit, infinite or NaN are put right in a second pass, when there are any.
+    Where every |x| is within the limit, one loop with no branch, which LLVM
+    vectorises; otherwise (a value beyond it, infinite or NaN) element by
+    element with :func:`cos32`.
     """
-    n = x.shape[0]
-    rare = 0
-    for i in range(n):
-        xi = x[i]
-        ok = abs(xi) <= COS_LIMIT
-        rare += not ok
-        iq, s, c = _reduce(xi if ok else _ZERO)
+    if _rare(x, COS_LIMIT):
+        for i in range(x.shape[0]):
+            out[i] = cos32(x[i])
+        return out
+    for i in range(x.shape[0]):
+        iq, s, c = _reduce(x[i])
         out[i] = _pick(iq + np.int32(1), s, c)
-    if rare:
-        for i in range(n):
-            if not abs(x[i]) <= COS_LIMIT:
-                out[i] = cos32(x[i])
     return out
 
 
 @_jit
 def sin_into(x, out):
     """out[i] = sin x[i] for 1-D float32 arrays (may be the same array), as :func:`cos_into`; returns out."""
-    n = x.shape[0]
-    rare = 0
-    for i in range(n):
-        xi = x[i]
-        ok = abs(xi) <= SIN_LIMIT
-        rare += not ok
-        iq, s, c = _reduce(xi if ok else _ZERO)
+    if _rare(x, SIN_LIMIT):
+        for i in range(x.shape[0]):
+            out[i] = sin32(x[i])
+        return out
+    for i in range(x.shape[0]):
+        iq, s, c = _reduce(x[i])
         out[i] = _pick(iq, s, c)
-    if rare:
-        for i in range(n):
-            if not abs(x[i]) <= SIN_LIMIT:
-                out[i] = sin32(x[i])
     return out
 
 
 @_jit
 def sincos_into(x, sin_out, cos_out):
     """sin and cos of 1-D float32 x from one reduction; NumPy's bits for both (x may not alias the outputs)."""
-    n = x.shape[0]
-    rare = 0
-    for i in range(n):
-        xi = x[i]
-        ok = abs(xi) <= COS_LIMIT            # the smaller of the two limits
-        rare += not ok
-        iq, s, c = _reduce(xi if ok else _ZERO)
+    if _rare(x, COS_LIMIT):                   # the smaller of the two limits
+        for i in range(x.shape[0]):
+            sin_out[i] = sin32(x[i])
+            cos_out[i] = cos32(x[i])
+        return
+    for i in range(x.shape[0]):
+        iq, s, c = _reduce(x[i])
         sin_out[i] = _pick(iq, s, c)
         cos_out[i] = _pick(iq + np.int32(1), s, c)
-    if rare:
-        for i in range(n):
-            if not abs(x[i]) <= COS_LIMIT:
-                sin_out[i] = sin32(x[i])
-                cos_out[i] = cos32(x[i])
 
 
 @_jit

@@ -50,6 +50,17 @@ def test_specials_and_limits():
     assert math.isnan(T.cos32(np.float32(np.nan)))
 
 
+@pytest.mark.parametrize("big", [np.float32(1e6), np.float32(np.inf), np.float32(np.nan)])
+def test_in_place_with_values_beyond_the_limit(big):
+    x = np.linspace(-500, 500, 1001, dtype=np.float32)
+    x[17] = big
+    for fn, ref in ((T.cos_into, np.cos), (T.sin_into, np.sin)):
+        y = x.copy()
+        fn(y, y)
+        with np.errstate(invalid="ignore"):
+            assert np.array_equal(bits(y), bits(ref(x)))
+
+
 def test_in_place_and_close_to_the_true_values():
     x = np.linspace(-50, 50, 10_001, dtype=np.float32)
     exact = np.cos(x.astype(np.float64))
