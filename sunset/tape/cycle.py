@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import require_int_range
-from ..kernels import use_threads
+from ..kernels import keep_freed_memory, use_threads
 from ..model.scene import Scene
 from ..vector.direct import island_pass
 from ..vector.render import render
@@ -30,18 +30,30 @@ def code_frame(scene: Scene, t: float, reflections: int = 2, seed: int = 0, isla
     return encode(scene, render(scene, float(t), reflections, islands=islands, sea_bounces=False), seed=seed)
 
 
-#: What a worker process of :func:`code_frames` keeps for all its frames: the islands' pass.
+#: What a worker process of :func:`code_frames` keeps for all its frames: the islands' pass, and the
+#: cycle's codes where they are shared with the parent.
 _WORKER: dict = {}
 
 
-def _start_worker(islands) -> None:
+def _start_worker(islands, out=None) -> None:
     _WORKER["islands"] = islands
+    _WORKER["out"] = out
+    # the frames' large arrays are the same size every frame: the allocator keeps them instead of handing them
+    # back to the system and faulting them in again, page by page, for the next frame (the worker's peak
+    # memory is one frame's, as before)
+    keep_freed_memory()
 
 
 def _code_frame_task(args):
     # the frames run side by side in the processes, one thread each
+    i, args = args
     with use_threads(1):
-        return code_frame(*args, islands=_WORKER.get("islands"))
+        codes = code_frame(*args, islands=_WORKER.get("islands"))
+    out = _WORKER.get("out")
+    if out is None:
+        return codes
+    out[i] = codes                           # straight into the parent's memory: nothing to send back
+    return None
 
 
 def _worker_ignores_interrupts():
@@ -58,9 +70,9 @@ def _worker_ignores_interrupts():
         signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)     # blocked by the parent around the fork
 
 
-def _start_quiet_worker(islands) -> None:
+def _start_quiet_worker(islands, out=None) -> None:
     _worker_ignores_interrupts()
-    _start_worker(islands)
+    _start_worker(islands, out)
 
 
 def _stop_signals():
@@ -121,6 +133,11 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     on_frame : callable, optional
         Called with (index, codes) as each frame arrives (a progress bar).
 
+    Where the workers are forked, they write their frames straight into
+    the returned array, which lives in memory shared with them, instead of
+    sending each back through a pipe; each keeps its freed frame arrays for
+    the next frame (:func:`sunset.kernels.keep_freed_memory`).
+
     Returns
     -------
     ndarray (N, H, W) uint8
@@ -147,22 +164,29 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
 
     if not times:
         return out
-    islands = island_pass(scene)
-    put(0, code_frame(scene, times[0], reflections, seed, islands=islands))
-    rest = [(scene, t, reflections, seed) for t in times[1:]]
-    if n <= 1 or not rest:
-        for i, args in enumerate(rest, start=1):
-            put(i, code_frame(*args, islands=islands))
-        return out
     methods = multiprocessing.get_all_start_methods()
     # fork is cheapest (the children share the loaded kernels); Python 3.12+ warns about forking a
     # process that has threads (BLAS has), so there the forkserver starts the workers
     method = "fork" if "fork" in methods and sys.version_info < (3, 12) else (
         "forkserver" if "forkserver" in methods else "spawn")
+    shared = n > 1 and len(times) > 1 and method == "fork"
+    if shared:
+        # forked workers write their frames into memory shared with this process (an anonymous shared
+        # mapping they inherit) instead of pickling a frame back through a pipe each
+        import mmap
+
+        out = np.frombuffer(mmap.mmap(-1, max(out.nbytes, 1)), np.uint8, count=out.size).reshape(out.shape)
+    islands = island_pass(scene)
+    put(0, code_frame(scene, times[0], reflections, seed, islands=islands))
+    rest = [(i, (scene, t, reflections, seed)) for i, t in enumerate(times[1:], start=1)]
+    if n <= 1 or not rest:
+        for i, args in rest:
+            put(i, code_frame(*args, islands=islands))
+        return out
     import signal
 
     pool = ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method),
-                               initializer=_start_quiet_worker, initargs=(islands,))
+                               initializer=_start_quiet_worker, initargs=(islands, out if shared else None))
     # A signal that arrives while the workers are forked would run the parent's handler inside an
     # at-fork callback, which swallows its exception (the interrupt would be lost) or kill a child
     # before it ignores signals: they are held back until the workers exist, then delivered here.
@@ -176,7 +200,11 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
             if block:
                 signal.pthread_sigmask(signal.SIG_SETMASK, held)
         for i, codes in enumerate(results, start=1):
-            put(i, codes)
+            if codes is None:                # written in place by the worker
+                if on_frame is not None:
+                    on_frame(i, out[i])
+            else:
+                put(i, codes)
     except BaseException:                    # Ctrl-C, SIGTERM, an error: no new frames; the workers finish theirs
         # (killing a worker while it sends its frame back would leave the pool's reader waiting forever)
         pool.shutdown(wait=True, cancel_futures=True)
