@@ -74,7 +74,7 @@ def _fma64(typingctx, a, b, c):
 
 @_jit
 def mod_two_pi(x):
-    """x mod 2π with Python's and NumPy's rule (``x % (2π)``, ``np.mod``), the same bits, mostly without ``fmod``.
+    """x mod 2π as ``np.mod`` (and Python's ``%``) gives it, mostly without fmod.
 
     With n = ⌊x/2π⌋, the remainder x − n·2π is a real number that
     ``np.mod`` rounds once (fmod's exact remainder, plus 2π where x < 0);
