@@ -64,7 +64,7 @@ import numpy as np
 from ..constants import (CLOUD, POST, CLOUDY_CODES_BEACH, CLOUDY_CODES_CLIFF, CLOUDY_CODES_CLOUD, CLOUDY_CODES_HILL,
                          CLOUDY_CODES_SKY, CODES_BEACH, CODES_CLIFF, CODES_HALO, CODES_HILL, CODES_SKY, CODES_TRACK, HALO_FACTOR,
                         N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY, TRACK_DITHER)
-from ..kernels import row_strips, run_strips, twin
+from ..kernels import run_strips, strips, twin
 from ..errors import SunsetError
 from ..vector.frame import Frame
 from ..model.sun import Sun
@@ -391,8 +391,13 @@ def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
                                     clouds.max_top, clouds.max_bottom, u[cloud])
                 out[cloud] = cmap.cloud.start + index
 
-    run_strips(rows, row_strips(H, W))
+    run_strips(rows, strips(H, max(1, CODE_STRIP_PIXELS // W)))
     return codes
+
+
+#: Pixels in a strip of :func:`encode` at most: its compiled kernel keeps no temporaries, so its strips
+#: are larger than the other stages' (fewer calls; with several threads, still about four strips a thread).
+CODE_STRIP_PIXELS = 1 << 18
 
 
 def dither(seed: int, skip: int, shape) -> np.ndarray:

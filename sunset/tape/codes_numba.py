@@ -7,6 +7,7 @@ pixel; the tests check that both give the same bytes. Chosen by
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -143,24 +144,30 @@ _NO_STREAM = np.zeros(4, np.uint64)
 _NO_DITHER = np.zeros((1, 1))
 
 
+@functools.lru_cache(maxsize=64)
+def _constants(sun, cmap) -> tuple:
+    """The arguments of :func:`_encode_pixels` that come from the sun and the code map (the same every strip)."""
+    part_ids = (PART_HILL, PART_CLIFF, PART_BEACH)
+    ranges = [cmap.for_part(p) for p in part_ids]
+    return (np.asarray(sun.U, float), np.asarray(sun.V, float), np.asarray(sun.W, float),
+            np.asarray(part_ids, np.int64), np.array([r.start for r in ranges], np.int64),
+            np.array([r.size for r in ranges], np.int64), cmap.sky.start, cmap.sky.size, cmap.track.start,
+            cmap.track.size, cmap.halo.start, cmap.halo.size, float(TRACK_DITHER * math.sin(sun.delta)),
+            float(math.sin(sun.delta)), float(math.sin(HALO_FACTOR * sun.delta)), float(track_elevation_max(sun)))
+
+
 def _encode(codes, frame, sun, cmap, u=None, v=None, streams=None):
     """Run :func:`_encode_pixels` on a frame's rows: with the dither arrays ``u``, ``v`` or the two ``streams``.
 
     Raises for an unknown island part; returns the pixels left to the caller (posts, clouds).
     """
-    part_ids = (PART_HILL, PART_CLIFF, PART_BEACH)
-    ranges = [cmap.for_part(p) for p in part_ids]
     draw = streams is not None
     su, sv = streams if draw else (_NO_STREAM, _NO_STREAM)
     bad, others = _encode_pixels(
         codes, np.ascontiguousarray(frame.final_surface), np.ascontiguousarray(frame.final_part),
         np.ascontiguousarray(frame.final_normal), np.ascontiguousarray(frame.ray),
         np.ascontiguousarray(frame.bounces), _NO_DITHER if draw else u, _NO_DITHER if draw else v, su, sv, draw,
-        np.asarray(sun.U, float), np.asarray(sun.V, float), np.asarray(sun.W, float), np.asarray(part_ids, np.int64),
-        np.array([r.start for r in ranges], np.int64), np.array([r.size for r in ranges], np.int64),
-        cmap.sky.start, cmap.sky.size, cmap.track.start, cmap.track.size, cmap.halo.start, cmap.halo.size,
-        float(TRACK_DITHER * math.sin(sun.delta)), float(math.sin(sun.delta)),
-        float(math.sin(HALO_FACTOR * sun.delta)), float(track_elevation_max(sun)))
+        *_constants(sun, cmap))
     if bad >= 0:
         raise SunsetError(f"frame.final_part must be 1 (beach), 2 (cliff) or 3 (hill) on islands, got {bad}")
     return int(others)
