@@ -38,8 +38,8 @@ import numpy as np
 
 from ..constants import CLOUD, SKY, WATER_REFRACTIVE_INDEX
 from ..errors import SunsetError
-from ..kernels import row_strips, run_strips
-from .paths import trace_paths
+from ..kernels import row_strips, run_strips, strips
+from .paths import lookups, trace_paths
 from .water import diffuse_mean_cosine
 
 __all__ = ["Geometry", "WaterLayer"]
@@ -131,6 +131,7 @@ class Geometry:
         final_dir = flat["ray"]            # the frame's final rays, not copied (float32 already)
         kind = np.empty(npx, np.int8)
         throughput = np.empty(npx, np.float32)
+        mu_bar = diffuse_mean_cosine(n)
 
         def rows(r0: int, r1: int) -> dict:
             a, b = r0 * w, r1 * w
@@ -138,54 +139,45 @@ class Geometry:
             kind[a:b], normal, throughput[a:b], layers = trace_paths(
                 part["surface"], part["final_surface"], part["final_part"], part["final_normal"],
                 part["direction"], part["normal"], part["incidence"], part["sea_rays"], float(n))
-            out = {"layers": [(i + a, up, wt) for i, up, wt in layers]}
-            out.update(_lookups(part, kind[a:b], normal, a, None if depth is None else depth[a:b]))
+            out = {"layers": [_water(i + a, up, wt, mu_bar) for i, up, wt in layers]}
+            out.update(lookups(part["ray"], part["final_surface"], part["bounces"], part["point"], kind[a:b], normal,
+                               a, None if depth is None else depth[a:b]))
             return out
 
-        strips = run_strips(rows, row_strips(h, w))
-        join = lambda key: np.concatenate([s[key] for s in strips])  # noqa: E731
-        layers = [tuple(np.concatenate([s["layers"][k][j] for s in strips]) for j in range(3)) for k in range(3)]
-        w_index = np.concatenate([layer[0] for layer in layers])
-        w_up = np.ascontiguousarray(np.concatenate([layer[1] for layer in layers]))
-        w_weight = np.concatenate([layer[2] for layer in layers])
-        starts = np.cumsum([0] + [len(layer[0]) for layer in layers[:-1]]).astype(np.intp)
-        w_mu = np.maximum(w_up[:, 2], np.float32(0))
-        mu_bar = diffuse_mean_cosine(n)
-        w_sky = (w_weight.astype(np.float64) / (4.0 * np.pi) / (mu_bar + w_mu.astype(np.float64))).astype(np.float32)
+        parts = run_strips(rows, row_strips(h, w))
+        pieces = {key: [s[key] for s in parts] for key in parts[0] if key != "layers"}
+        for j, key in enumerate(_WATER):       # all strips' first bounce, then the second, then the fold
+            pieces[key] = [s["layers"][k][j] for k in range(3) for s in parts]
+        starts = np.cumsum([0] + [sum(len(s["layers"][k][0]) for s in parts) for k in range(2)]).astype(np.intp)
         return cls(shape=(h, w), final_dir=final_dir, final_kind=kind, throughput=throughput,
-                   sky_index=join("sky_index"), sky_dir=join("sky_dir"), sky_r0=join("sky_r0"),
-                   sky_fr=join("sky_fr"), sky_azimuth=join("sky_azimuth"),
-                   island_index=join("island_index"), island_normal=join("island_normal"),
-                   island_g=join("island_g"),
-                   island_f=join("island_f"), water_starts=starts, water_index=w_index, water_up=w_up,
-                   water_mu=w_mu, water_weight=w_weight, water_sky=w_sky, n=float(n),
-                   sky_cloud=None if depth is None else join("sky_cloud"),
-                   island_point=join("island_point"))
+                   water_starts=starts, n=float(n), **_join(pieces))
 
 
-def _lookups(part: dict, kind, normal, offset: int, depth) -> dict:
-    """A strip's sky and island lists: which pixels, and where their rays and normals fall in the hour's tables.
+#: The water lists' fields, in the order :func:`_water` gives them.
+_WATER = ("water_index", "water_up", "water_weight", "water_mu", "water_sky")
 
-    Plain NumPy on both paths (its arcsin and arctan2 are NumPy's, so either
-    kernel path gives the same bytes).
-    """
-    from .lighting import NORMAL_GRID, SKY_REFINE, SKY_ROWS, sky_row
 
-    sky_local = np.flatnonzero(kind == SKY)
-    fd = part["ray"][sky_local]
-    r_max = (SKY_ROWS - 1) * SKY_REFINE[0]
-    rows = np.clip(sky_row(fd[:, 2]) * SKY_REFINE[0], 0, r_max)
-    r0 = np.minimum(rows.astype(np.int32), r_max - 1)
-    isl_local = np.flatnonzero(kind > 0)
-    g = (np.clip(normal[isl_local, :2].astype(np.float64), -1, 1) + 1.0) * (0.5 * (NORMAL_GRID - 1))
-    g0 = np.minimum(g.astype(np.int32), NORMAL_GRID - 2)
-    direct_hit = part["bounces"][isl_local] == 0
-    out = {"sky_index": sky_local + offset, "sky_dir": fd, "sky_r0": r0, "sky_fr": (rows - r0).astype(np.float32),
-           "sky_azimuth": np.arctan2(fd[:, 1], fd[:, 0]), "island_index": isl_local + offset,
-           "island_normal": normal[isl_local], "island_g": g0,
-           "island_f": (g - g0).astype(np.float32),
-           "island_point": np.where(direct_hit[:, None], part["point"][isl_local], np.nan).astype(np.float32)}
-    if depth is not None:
-        out["sky_cloud"] = np.where(part["final_surface"][sky_local] == CLOUD, depth[sky_local],
-                                    np.nan).astype(np.float32)
+def _water(index, up, weight, mu_bar: float) -> tuple:
+    """One strip's water of one bounce, with μ = max(up_z, 0) and the skylight's factor weight (1/4π)/(μ̄ + μ)."""
+    mu = np.maximum(up[:, 2], np.float32(0))
+    sky = (weight.astype(np.float64) / (4.0 * np.pi) / (mu_bar + mu.astype(np.float64))).astype(np.float32)
+    return index, up, weight, mu, sky
+
+
+def _join(pieces: dict) -> dict:
+    """Each key's pieces joined in order, as ``np.concatenate``, into arrays made once; the copies on the threads."""
+    out = {key: np.empty((sum(len(p) for p in ps),) + ps[0].shape[1:], ps[0].dtype) for key, ps in pieces.items()}
+    jobs = []
+    for key, ps in pieces.items():
+        start = 0
+        for p in ps:
+            jobs.append((out[key], start, p))
+            start += len(p)
+
+    def copy(a: int, b: int) -> None:
+        for dest, start, p in jobs[a:b]:
+            dest[start:start + len(p)] = p
+
+    run_strips(copy, strips(len(jobs)))
     return out
+

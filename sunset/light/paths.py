@@ -30,7 +30,7 @@ import numpy as np
 from ..constants import CLOUD, PART_CLIFF, POST, SEA, SKY
 from ..kernels import twin
 
-__all__ = ["trace_paths", "reflectance64"]
+__all__ = ["trace_paths", "reflectance64", "lookups"]
 
 _f = np.float32
 
@@ -124,3 +124,35 @@ def trace_paths(surface, final_surface, final_part, final_normal, direction, nor
     t_sea[down] = t_sea[down] * r3
     throughput[sea] = t_sea
     return kind, nrm, throughput, ((sea, up1, w1), (sea[two], up2, w2), (sea[down], up3, w3))
+
+
+@twin("sunset.light.paths_numba")
+def lookups(ray, final_surface, bounces, point, kind, normal, offset: int, depth=None) -> dict:
+    """A strip's sky and island lists: which pixels, and where their rays and normals fall in the hour's tables.
+
+    ``kind`` and ``normal`` are :func:`trace_paths`' ; the other arrays the
+    strip's frame fields, flattened; ``offset`` the strip's first pixel. The
+    twin compacts the lists in one compiled pass and leaves the arcsine and
+    the arctangent to NumPy, so either path gives the same bytes.
+    """
+    from .lighting import NORMAL_GRID, SKY_REFINE, SKY_ROWS, sky_row
+
+    sky_local = np.flatnonzero(kind == SKY)
+    fd = ray[sky_local]
+    r_max = (SKY_ROWS - 1) * SKY_REFINE[0]
+    rows = np.clip(sky_row(fd[:, 2]) * SKY_REFINE[0], 0, r_max)
+    r0 = np.minimum(rows.astype(np.int32), r_max - 1)
+    isl_local = np.flatnonzero(kind > 0)
+    g = (np.clip(normal[isl_local, :2].astype(np.float64), -1, 1) + 1.0) * (0.5 * (NORMAL_GRID - 1))
+    g0 = np.minimum(g.astype(np.int32), NORMAL_GRID - 2)
+    direct_hit = bounces[isl_local] == 0
+    out = {"sky_index": sky_local + offset, "sky_dir": fd, "sky_r0": r0,
+           "sky_fr": (rows - r0).astype(np.float32),
+           "sky_azimuth": np.arctan2(fd[:, 1], fd[:, 0]), "island_index": isl_local + offset,
+           "island_normal": normal[isl_local], "island_g": g0,
+           "island_f": (g - g0).astype(np.float32),
+           "island_point": np.where(direct_hit[:, None], point[isl_local], np.nan).astype(np.float32)}
+    if depth is not None:
+        out["sky_cloud"] = np.where(final_surface[sky_local] == CLOUD, depth[sky_local],
+                                    np.nan).astype(np.float32)
+    return out

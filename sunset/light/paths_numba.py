@@ -7,7 +7,7 @@ import numpy as np
 from ..constants import CLOUD, PART_CLIFF, POST, SEA, SKY
 from ..kernels import jit
 
-__all__ = ["trace_paths"]
+__all__ = ["trace_paths", "lookups"]
 
 
 @jit
@@ -126,3 +126,73 @@ def trace_paths(surface, final_surface, final_part, final_normal, direction, nor
         c(surface), c(final_surface), c(final_part), c(final_normal), c(direction), c(normal), c(incidence),
         c(sea_rays), float(n))
     return kind, nrm, tau, ((i1, u1, w1), (i2, u2, w2), (i3, u3, w3))
+
+
+@jit
+def _lookups(ray, final_surface, bounces, point, kind, normal, offset, depth, has_depth, scale, g_max):
+    count = kind.shape[0]
+    n_sky = 0
+    n_isl = 0
+    for i in range(count):
+        if kind[i] == SKY:
+            n_sky += 1
+        elif kind[i] > 0:
+            n_isl += 1
+    sky_index = np.empty(n_sky, np.intp)
+    sky_dir = np.empty((n_sky, 3), np.float32)
+    sky_cloud = np.empty(n_sky if has_depth else 0, np.float32)
+    isl_index = np.empty(n_isl, np.intp)
+    isl_normal = np.empty((n_isl, 3), np.float32)
+    isl_g = np.empty((n_isl, 2), np.int32)
+    isl_f = np.empty((n_isl, 2), np.float32)
+    isl_point = np.empty((n_isl, 3), np.float32)
+    nan32 = np.float32(np.nan)
+    js = 0
+    ji = 0
+    for i in range(count):
+        if kind[i] == SKY:
+            sky_index[js] = i + offset
+            for c in range(3):
+                sky_dir[js, c] = ray[i, c]
+            if has_depth:
+                sky_cloud[js] = np.float32(depth[i]) if final_surface[i] == CLOUD else nan32
+            js += 1
+        elif kind[i] > 0:
+            isl_index[ji] = i + offset
+            for c in range(3):
+                isl_normal[ji, c] = normal[i, c]
+                isl_point[ji, c] = np.float32(point[i, c]) if bounces[i] == 0 else nan32
+            for c in range(2):
+                v = np.float64(normal[i, c])
+                if v < -1.0:
+                    v = -1.0
+                if v > 1.0:
+                    v = 1.0
+                g = (v + 1.0) * scale
+                g0 = np.int32(g)
+                if g0 > g_max:
+                    g0 = np.int32(g_max)
+                isl_g[ji, c] = g0
+                isl_f[ji, c] = np.float32(g - g0)
+            ji += 1
+    return sky_index, sky_dir, sky_cloud, isl_index, isl_normal, isl_g, isl_f, isl_point
+
+
+def lookups(ray, final_surface, bounces, point, kind, normal, offset: int, depth=None) -> dict:
+    """:func:`sunset.light.paths.lookups`: the lists compacted in one compiled pass, the arcsine and arctangent NumPy's."""
+    from .lighting import NORMAL_GRID, SKY_REFINE, SKY_ROWS, sky_row
+
+    c = np.ascontiguousarray
+    has_depth = depth is not None
+    sky_index, fd, cloud, isl_index, isl_normal, g0, f, pt = _lookups(
+        c(ray), c(final_surface), c(bounces), c(point), c(kind), c(normal), int(offset),
+        c(depth) if has_depth else np.zeros(1, np.float32), has_depth, 0.5 * (NORMAL_GRID - 1), NORMAL_GRID - 2)
+    r_max = (SKY_ROWS - 1) * SKY_REFINE[0]
+    rows = np.clip(sky_row(fd[:, 2]) * SKY_REFINE[0], 0, r_max)
+    r0 = np.minimum(rows.astype(np.int32), r_max - 1)
+    out = {"sky_index": sky_index, "sky_dir": fd, "sky_r0": r0, "sky_fr": (rows - r0).astype(np.float32),
+           "sky_azimuth": np.arctan2(fd[:, 1], fd[:, 0]), "island_index": isl_index,
+           "island_normal": isl_normal, "island_g": g0, "island_f": f, "island_point": pt}
+    if has_depth:
+        out["sky_cloud"] = cloud
+    return out

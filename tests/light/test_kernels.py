@@ -233,3 +233,47 @@ def test_the_eyes_exponent_takes_the_fused_path_here():
     if not kernels.enabled():
         pytest.skip("Numba is off")
     assert kernel_numba.fused_power(EYE_RESPONSE_EXPONENT) is True
+
+
+def _lookup_args(f):
+    n = f.shape[0] * f.shape[1]
+    flat = _flat(f)
+    kind, normal, _, _ = paths.trace_paths.reference(*flat, 1.34)
+    field = lambda k: getattr(f, k).reshape((n,) + getattr(f, k).shape[2:])  # noqa: E731
+    depth = None if f.cloud_depth is None else f.cloud_depth.reshape(-1)
+    return field("ray"), field("final_surface"), field("bounces"), field("point"), kind, normal, depth
+
+
+def _same_lists(a, b):
+    assert a.keys() == b.keys()
+    for k in a:
+        _same(a[k], b[k])
+
+
+def test_the_lookups_twin_gives_the_same_bytes(frames):
+    for f in frames:
+        ray, fs, bounces, point, kind, normal, depth = _lookup_args(f)
+        for d in (depth, None, np.where(fs == -2, 3.5, np.nan).astype(np.float32)):
+            args = (ray, fs, bounces, point, kind, normal, 17)
+            _same_lists(paths.lookups.reference(*args, d), paths.lookups.compiled()(*args, d))
+
+
+def test_the_lookups_twin_agrees_on_hostile_values():
+    """Normals past ±1 and on the grid's edges, every kind, clouds and direct and reflected hits."""
+    rng = np.random.default_rng(5)
+    n = 5000
+    ray = rng.normal(size=(n, 3)).astype(np.float32)
+    ray[::9, 2] = 1.0
+    ray[::13, 2] = 0.0
+    normal = rng.uniform(-1.3, 1.3, (n, 3)).astype(np.float32)
+    normal[::4, :2] = rng.choice([-1.0, 1.0, 0.0, -0.0], (len(normal[::4]), 2))
+    point = rng.normal(size=(n, 3)).astype(np.float32)
+    kind = rng.integers(-1, 4, n).astype(np.int8)
+    fs = rng.integers(-3, 3, n).astype(np.int8)
+    bounces = rng.integers(0, 3, n).astype(np.uint8)
+    depth = rng.uniform(0, 9, n).astype(np.float32)
+    args = (ray, fs, bounces, point, kind, normal, 5)
+    ref = paths.lookups.reference(*args, depth)
+    _same_lists(ref, paths.lookups.compiled()(*args, depth))
+    assert np.all(ref["island_g"] >= 0) and np.all(ref["island_f"] >= 0) and np.all(ref["island_f"] <= 1)
+    assert np.isnan(ref["sky_cloud"]).any() and np.isnan(ref["island_point"]).any()
