@@ -179,7 +179,7 @@ def _lookups(ray, final_surface, bounces, point, kind, normal, offset, depth, ha
 
 
 def lookups(ray, final_surface, bounces, point, kind, normal, offset: int, depth=None) -> dict:
-    """:func:`sunset.light.paths.lookups`: the lists compacted in one compiled pass, the arcsine and arctangent NumPy's."""
+    """:func:`sunset.light.paths.lookups`, compiled: one pass, the arcsine and arctangent NumPy's."""
     from .lighting import NORMAL_GRID, SKY_REFINE, SKY_ROWS, sky_row
 
     c = np.ascontiguousarray
