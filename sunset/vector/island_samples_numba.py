@@ -249,7 +249,9 @@ def _islands_strip(s_all, c_lo, c_hi, params, cos_p, has_phase, cos_start, chord
                     elif r > K + 1.0:
                         r = K + 1.0
                     rr[i] = r
-                # each interval cut into ⌈(|Δr| + |Δ²r|)/σ⌉ parts, 1 where hidden behind the nearer profile
+                # island-cut-begin
+                # each interval cut into ⌈(|Δr| + |Δ²r|)/σ⌉ parts,
+                # 1 where hidden behind the nearer profile
                 total = 0
                 top = rr[0]
                 for j in range(m - 1):
@@ -265,6 +267,7 @@ def _islands_strip(s_all, c_lo, c_hi, params, cos_p, has_phase, cos_start, chord
                         nj = 1
                     nn[j] = nj
                     total += nj
+                # island-cut-end
                 if total > budget:
                     scale = budget / max(total, 1)
                     total = 0
