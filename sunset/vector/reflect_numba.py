@@ -13,8 +13,8 @@
 * :func:`pierce_islands` and :func:`crest_hits` are the compiled island and
   crest piercing on their own (the tests hold them against the reference's).
 
-The island normals of the rays that hit are NumPy's
-(:func:`sunset.vector.pierce.island_normal`, on the compressed hits). The same
+The island normals of the rays that hit are taken in the same loop
+(:func:`_island_normal`, :func:`sunset.vector.pierce.island_normal`'s operations). The same
 operations in the same order as the NumPy reference: the frames are
 identical (tests). Chosen by :mod:`sunset.kernels`.
 """
@@ -29,7 +29,6 @@ from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..kernels import jit as _jit
 from .crests_numba import _quadratic, crest_constants, crest_distance, sea_rays, second_bounce_constants
 from .frame import Frame
-from .pierce import island_normal
 
 
 @_jit
@@ -217,14 +216,90 @@ def pierce_islands(islands, eye_height: float, q, r):
 
 
 
+#: Columns of :func:`normal_table`.
+_NORMAL_COLUMNS = ("x", "y", "ce", "cf", "cg", "be", "bf", "bg", "k", "first", "stop")
+
+
+def normal_table(islands):
+    """The islands' normal parameters as float64 tables for :func:`_island_normal`.
+
+    One row per island (apex, cliff and beach forms, hill factor and the
+    range of its cosine terms in the second table), and one row
+    (ℓ, m, φ, amplitude) per cosine term, island by island.
+    """
+    rows, terms = [], []
+    for isl in islands:
+        first = len(terms)
+        terms += [[c.l, c.m, c.phase, c.amplitude] for c in isl.cosines]
+        cl, bc = isl.cliff, isl.beach
+        rows.append([isl.x, isl.y, cl.e, cl.f, cl.g, bc.e, bc.f, bc.g, isl.hill_factor, first, len(terms)])
+    return (np.array(rows, dtype=np.float64).reshape(len(rows), len(_NORMAL_COLUMNS)),
+            np.array(terms, dtype=np.float64).reshape(len(terms), 4))
+
+
 @_jit
-def pierce_write(flat, q, r, bounces, table, h, part_beach, part_cliff, part_hill, sky_code, f_bounces, f_ray,
-                 f_surface, f_part, f_normal, hit_j, hit_t, hit_which, hit_part):
+def _island_normal(x, y, part, row, terms, part_beach, part_hill):
+    """:func:`sunset.vector.pierce.island_normal` at one point (float64): (n_x, n_y, n_z).
+
+    The same operations in the same order: the cliff's gradient with each
+    cosine term's sine (the C library's, as NumPy's float64 ``np.sin``), or
+    the beach's; the hill factor on the hill; then
+    :func:`sunset.model.waves.unit_normal`.
+    """
+    dx = x - row[0]
+    dy = y - row[1]
+    if part == part_beach:
+        gx = -(2.0 * row[5] * dx + row[6] * dy)
+        gy = -(row[6] * dx + 2.0 * row[7] * dy)
+    else:
+        gx = -(2.0 * row[2] * dx + row[3] * dy)
+        gy = -(row[3] * dx + 2.0 * row[4] * dy)
+        for c in range(int(row[9]), int(row[10])):
+            ph = terms[c, 0] * x + terms[c, 1] * y
+            if terms[c, 2] != 0.0:
+                ph = ph + terms[c, 2]
+            sn = terms[c, 3] * math.sin(ph)
+            gx = gx - terms[c, 0] * sn
+            gy = gy - terms[c, 1] * sn
+        if part == part_hill:
+            gx = row[8] * gx
+            gy = row[8] * gy
+    zb = 1.0 / math.sqrt(gx * gx + gy * gy + 1.0)
+    return -zb * gx, -zb * gy, zb
+
+
+@_jit
+def _normals_all(x, y, part, which, table, terms, part_beach, part_hill, out):
+    for j in range(x.shape[0]):
+        out[j, 0], out[j, 1], out[j, 2] = _island_normal(x[j], y[j], part[j], table[which[j] - 1], terms,
+                                                         part_beach, part_hill)
+
+
+def island_normals(islands, x, y, part, which) -> np.ndarray:
+    """:func:`sunset.vector.pierce.island_normal` compiled, for points on several islands: (N, 3) float64.
+
+    ``which`` (1, 2, …) names each point's island in ``islands``; ``part``
+    the part its ray entered.
+    """
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    y = np.ascontiguousarray(y, dtype=np.float64)
+    part = np.ascontiguousarray(part, dtype=np.int8)
+    which = np.ascontiguousarray(which, dtype=np.int64)
+    out = np.empty((len(x), 3))
+    table, terms = normal_table(islands)
+    _normals_all(x, y, part, which, table, terms, PART_BEACH, PART_HILL, out)
+    return out
+
+
+@_jit
+def pierce_write(flat, q, r, bounces, table, normals, terms, h, part_beach, part_cliff, part_hill, sky_code,
+                 f_bounces, f_ray, f_surface, f_part, f_normal):
     """Pierce the islands (:func:`_pierce_all`) and write each ray's final fields into the frame's pixels.
 
     ``flat`` are row-major pixel indices of the (H, W) frame fields; the
-    final normal is NaN (the island hits' normals are filled afterwards).
-    The rays that hit an island are listed in ``hit_*``; returns their number.
+    final normal is the island's (:func:`_island_normal` at the hit, the
+    point Q + tR), NaN where the ray ends in the sky. Returns the number of
+    rays that hit an island.
     """
     n = q.shape[0]
     best = np.full(n, np.inf)
@@ -242,15 +317,18 @@ def pierce_write(flat, q, r, bounces, table, h, part_beach, part_cliff, part_hil
         f_ray[yy, xx, 2] = r[j, 2]
         f_surface[yy, xx] = which[j]
         f_part[yy, xx] = part[j]
-        f_normal[yy, xx, 0] = np.nan
-        f_normal[yy, xx, 1] = np.nan
-        f_normal[yy, xx, 2] = np.nan
         if which[j] > 0:
-            hit_j[n_hit] = j
-            hit_t[n_hit] = best[j]
-            hit_which[n_hit] = which[j]
-            hit_part[n_hit] = part[j]
+            t = best[j]
+            nx, ny, nz = _island_normal(q[j, 0] + t * r[j, 0], q[j, 1] + t * r[j, 1], part[j],
+                                        normals[which[j] - 1], terms, part_beach, part_hill)
+            f_normal[yy, xx, 0] = nx
+            f_normal[yy, xx, 1] = ny
+            f_normal[yy, xx, 2] = nz
             n_hit += 1
+        else:
+            f_normal[yy, xx, 0] = np.nan
+            f_normal[yy, xx, 1] = np.nan
+            f_normal[yy, xx, 2] = np.nan
     return n_hit
 
 
@@ -261,8 +339,8 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     """:func:`sunset.vector.reflect.trace_sea_rays` compiled: the same frame, in two passes over the strip.
 
     :func:`sunset.vector.crests_numba.sea_rays` (reflect, pierce the crest,
-    reflect again, record, |R_z|), then :func:`pierce_write` (the islands and
-    the frame's final fields), then NumPy's island normals on the hits.
+    reflect again, record, |R_z|), then :func:`pierce_write` (the islands, their
+    normals at the hits and the frame's final fields).
     """
     h = float(scene.camera.eye_height)
     n = int(np.count_nonzero(frame.surface == SEA))
@@ -282,21 +360,9 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
                   rays, flat, q, r, bounces)
     islands = scene.islands if reflections >= 1 else ()
     table = island_table(islands, h, z0 if z0 < np.inf else 0.0)
-    hit_j = np.empty(n, np.intp)
-    hit_t = np.empty(n)
-    hit_which = np.empty(n, np.int8)
-    hit_part = np.empty(n, np.int8)
-    m = pierce_write(flat, q, r, bounces, table, h, PART_BEACH, PART_CLIFF, PART_HILL, SKY, frame.bounces, frame.ray,
-                     frame.final_surface, frame.final_part, frame.final_normal, hit_j, hit_t, hit_which, hit_part)
-    if m:
-        hit_j, hit_t, hit_which, hit_part = hit_j[:m], hit_t[:m], hit_which[:m], hit_part[:m]
-        for k, island in enumerate(islands, start=1):
-            sel = np.flatnonzero(hit_which == k)
-            if len(sel):
-                jk = hit_j[sel]
-                hit = q[jk] + hit_t[sel][:, None] * r[jk]
-                at = np.unravel_index(flat[jk], frame.surface.shape)
-                frame.final_normal[at] = island_normal(island, hit[:, 0], hit[:, 1], hit_part[sel])
+    normals, terms = normal_table(islands)
+    pierce_write(flat, q, r, bounces, table, normals, terms, h, PART_BEACH, PART_CLIFF, PART_HILL, SKY,
+                 frame.bounces, frame.ray, frame.final_surface, frame.final_part, frame.final_normal)
     return frame
 
 

@@ -118,3 +118,31 @@ def test_the_phase_mod_two_pi_is_numpys():
     y = x[:200000]
     plain = y - np.floor(y / two_pi) * two_pi
     assert not same_bits(plain, want[:200000])
+
+
+def test_the_island_normals_are_numpys():
+    """reflect_numba.island_normals (the loop's _island_normal) is pierce.island_normal bit for bit:
+    every island of the default scene and one whose cosines have phases, on all three parts."""
+    from dataclasses import replace
+
+    from sunset.constants import PART_BEACH, PART_CLIFF, PART_HILL
+
+    islands = list(Scene.default().islands)
+    islands.append(replace(islands[0], cosines=tuple(replace(c, phase=0.7 * (i + 1))
+                                                      for i, c in enumerate(islands[0].cosines))))
+    rng = np.random.default_rng(5)
+    n = 4000
+    for k, isl in enumerate(islands, start=1):
+        x = isl.x + rng.uniform(-400, 400, n)
+        y = isl.y + rng.uniform(-400, 400, n)
+        part = rng.choice(np.array([PART_BEACH, PART_CLIFF, PART_HILL], np.int8), n)
+        want = pierce.island_normal(isl, x, y, part)
+        got = reflect_numba.island_normals(islands, x, y, part, np.full(n, k))
+        assert same_bits(got, want)
+        # the parts differ (each branch is exercised): the beach's normal is not the cliff's
+        at = np.array([PART_BEACH, PART_CLIFF, PART_HILL], np.int8)
+        normals = [pierce.island_normal(isl, x[:1], y[:1], at[i:i + 1]) for i in range(3)]
+        assert not np.array_equal(normals[0], normals[1]) and not np.array_equal(normals[1], normals[2])
+    # the phases matter
+    assert not np.array_equal(pierce.island_normal(islands[0], x, y, np.full(n, PART_CLIFF, np.int8)),
+                              pierce.island_normal(islands[-1], x, y, np.full(n, PART_CLIFF, np.int8)))
