@@ -26,7 +26,7 @@ from .heightfield import sampling, sea_columns, sea_gradient_on_scanlines
 from .island_samples import islands_scan, probe_refinement
 
 __all__ = ["trace_direct", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals",
-           "put_sea_normals"]
+           "put_sea_normals", "put_island_normals"]
 
 _F32 = np.float32
 
@@ -215,9 +215,7 @@ def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:
             idx, s_hit, yk = hits[k]
             if not len(idx):
                 continue
-            _, prt, gx, gy = island.surface((s_hit * yk).astype(_F32), yk.astype(_F32))
-            part.reshape(-1)[idx] = prt
-            normal.reshape(-1, 3)[idx] = unit_normal(gx.astype(_F32), gy.astype(_F32))
+            put_island_normals(island, normal, part, idx, s_hit, yk)
 
     run_strips(rows, row_strips(H, W))
     return frame
@@ -250,6 +248,18 @@ def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int, out):
 def put_unit_normals(normal, idx, fx, fy) -> None:
     """Write the unit normals (−f_x, −f_y, 1)/|·| into the flat pixels ``idx`` of ``normal`` (H, W, 3), in place."""
     normal.reshape(-1, 3)[idx] = unit_normal(fx, fy)
+
+
+@twin("sunset.vector.direct_numba", numpy_trig=True)
+def put_island_normals(island, normal, part, idx, s, y) -> None:
+    """An island's pixels: the part and the unit normal of its surface at (s·y, y) into ``idx``, in place.
+
+    :meth:`sunset.model.islands.Island.surface` (float32) and
+    :func:`sunset.model.waves.unit_normal`; the twin does both in one pass.
+    """
+    _, prt, gx, gy = island.surface((s * y).astype(_F32), y.astype(_F32))
+    part.reshape(-1)[idx] = prt
+    normal.reshape(-1, 3)[idx] = unit_normal(gx.astype(_F32), gy.astype(_F32))
 
 
 @twin("sunset.vector.slopes_numba", numpy_trig=True)

@@ -2,7 +2,8 @@
 
 :func:`assemble_geometry` builds directions, points, distances and the
 compressed lists of sea and island pixels in one pass over the depth buffer;
-:func:`put_unit_normals` writes the sea's unit normals. The arithmetic of the
+:func:`put_unit_normals` writes the sea's unit normals, :func:`put_island_normals`
+an island's parts and normals. The arithmetic of the
 NumPy reference, element by element. Chosen by :mod:`sunset.kernels`.
 """
 
@@ -12,8 +13,9 @@ import math
 
 import numpy as np
 
-from ..constants import SEA, SKY
+from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..kernels import jit as _jit
+from ..trig_numba import cos32, sin32
 
 
 @_jit
@@ -118,3 +120,68 @@ def put_unit_normals(normal, flat, fx, fy) -> None:
 def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int, out):
     """:func:`sunset.vector.direct.assemble_geometry` in one compiled pass (:func:`assemble`)."""
     return assemble(best_u, best_surf, s_all, zeta, SKY, SEA, n_islands, out)
+
+
+def _island_constants(island):
+    """The island's constants for :func:`_island_normals`, float32 as NumPy's float32 arithmetic casts them.
+
+    (X, Y, cliff height, 2e, e, f, g, 2g, cliff top, hill factor, beach
+    height, e, f, g, 2e, 2g) and one row (ℓ, m, φ, a, φ ≠ 0) per cosine term.
+    """
+    cl, bc = island.cliff, island.beach
+    c = np.array([island.x, island.y, cl.height, 2.0 * cl.e, cl.e, cl.f, cl.g, 2.0 * cl.g, island.cliff_top,
+                  island.hill_factor, bc.height, bc.e, bc.f, bc.g, 2.0 * bc.e, 2.0 * bc.g], np.float32)
+    terms = np.array([[t.l, t.m, t.phase, t.amplitude, 1.0 if t.phase else 0.0] for t in island.cosines],
+                     np.float32).reshape(len(island.cosines), 5)
+    return c, terms
+
+
+@_jit
+def _island_normals(c, terms, normal, part, idx, s, y, part_beach, part_cliff, part_hill):
+    one = np.float32(1.0)
+    for j in range(idx.shape[0]):
+        x = np.float32(s[j] * y[j])
+        yy = np.float32(y[j])
+        dx = x - c[0]
+        dy = yy - c[1]
+        q = c[2] - (c[4] * dx * dx + c[5] * dx * dy + c[6] * dy * dy)
+        qx = -(c[3] * dx + c[5] * dy)
+        qy = -(c[5] * dx + c[7] * dy)
+        for k in range(terms.shape[0]):
+            ph = terms[k, 0] * x + terms[k, 1] * yy
+            if terms[k, 4] != 0:
+                ph = ph + terms[k, 2]
+            q = q + terms[k, 3] * cos32(ph)
+            sn = terms[k, 3] * sin32(ph)
+            qx = qx - terms[k, 0] * sn
+            qy = qy - terms[k, 1] * sn
+        ct, phi = c[8], c[9]
+        hill = q > ct
+        upper = ct + phi * (q - ct) if hill else q
+        beach = c[10] - (c[11] * dx * dx + c[12] * dx * dy + c[13] * dy * dy)
+        if beach >= upper:
+            p = part_beach
+            gx = -(c[14] * dx + c[12] * dy)
+            gy = -(c[12] * dx + c[15] * dy)
+        else:
+            p = part_hill if hill else part_cliff
+            scale = phi if hill else one
+            gx = scale * qx
+            gy = scale * qy
+        zb = one / np.sqrt(gx * gx + gy * gy + one)
+        at = idx[j]
+        part[at] = p
+        normal[at, 0] = -zb * gx
+        normal[at, 1] = -zb * gy
+        normal[at, 2] = zb
+
+
+def put_island_normals(island, normal, part, idx, s, y) -> None:
+    """:func:`sunset.vector.direct.put_island_normals` compiled: the island's surface at each pixel, in one loop.
+
+    The float32 operations of :meth:`sunset.model.islands.Island.surface`
+    (NumPy's float32 cosine and sine: :mod:`sunset.trig_numba`) and of
+    :func:`sunset.model.waves.unit_normal`, pixel by pixel.
+    """
+    c, terms = _island_constants(island)
+    _island_normals(c, terms, normal.reshape(-1, 3), part.reshape(-1), idx, s, y, PART_BEACH, PART_CLIFF, PART_HILL)
