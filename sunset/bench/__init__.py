@@ -89,9 +89,9 @@ def _frame_once(scene, t: float = 0.0) -> dict:
     c0 = time.process_time()
     t0 = time.perf_counter()
     frame = trace_direct(scene, t, info=info)
-    frame.reflections = 2
-    frame.finish_direct(sea_bounces=False)      # the 8-bit pipeline: the RGB back end's fields are not made
     t1 = time.perf_counter()
+    # the 8-bit pipeline: the RGB back end's fields are not made; Frame.finish_direct is
+    # trace_reflections' (which leaves the rows that are all sea to the reflected rays)
     trace_reflections(scene, frame, 2, sea_bounces=False)
     t2 = time.perf_counter()
     codes = encode(scene, frame, seed=0)
@@ -100,7 +100,7 @@ def _frame_once(scene, t: float = 0.0) -> dict:
     t4 = time.perf_counter()
     c4 = time.process_time()
     sec = info["seconds"]
-    direct_other = (t1 - t0) - sum(sec.values())  # finish_direct and bookkeeping: with the points
+    direct_other = (t1 - t0) - sum(sec.values())  # bookkeeping: with the points
     return {"sea scan line": sec["sea"], "islands": sec["islands"],
             "points & normals": sec["assemble"] + direct_other, "reflections": t2 - t1, "codes": t3 - t2,
             "film recorder": t4 - t3, "vector stage": t3 - t0, "total": t4 - t0, "cpu time": c4 - c0}

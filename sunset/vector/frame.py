@@ -17,7 +17,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..constants import SKY
+from ..constants import SEA, SKY
 from ..kernels import row_strips, run_strips
 
 
@@ -106,7 +106,7 @@ class Frame:
         return (f"Frame(t={self.t:g} s, {w}×{h}, reflections={self.reflections}: "
                 f"{sky:.0f}% sky, {sea:.0f}% sea, {100.0 - sky - sea:.0f}% islands)")
 
-    def finish_direct(self, sea_bounces: bool = True) -> "Frame":
+    def finish_direct(self, sea_bounces: bool = True, *, sea_rows: bool = True) -> "Frame":
         """Fill the final-ray fields as if no ray reflected (direct rays only).
 
         Sky and island pixels end where the direct ray ends; sea pixels keep
@@ -114,7 +114,10 @@ class Frame:
         The copies are made strip by strip on all threads. ``sea_bounces``:
         also make ``incidence`` and ``sea_rays`` (NaN until the sea's rays
         are traced), which the RGB back end reads and the 8-bit codes do not
-        (32 bytes a pixel).
+        (32 bytes a pixel). ``sea_rows=False``: leave ``ray`` and
+        ``final_normal`` unset in the rows that are all sea, for
+        :func:`sunset.vector.reflect.trace_reflections`, which writes them
+        in every sea pixel (24 bytes a pixel not copied there).
         """
         self.bounces = np.empty(self.shape, np.uint8)
         self.ray = np.empty_like(self.direction)
@@ -127,10 +130,19 @@ class Frame:
 
         def copy(r0: int, r1: int) -> None:
             self.bounces[r0:r1] = 0
-            self.ray[r0:r1] = self.direction[r0:r1]
             self.final_surface[r0:r1] = self.surface[r0:r1]
             self.final_part[r0:r1] = self.part[r0:r1]
-            self.final_normal[r0:r1] = self.normal[r0:r1]
+            if sea_rows:
+                self.ray[r0:r1] = self.direction[r0:r1]
+                self.final_normal[r0:r1] = self.normal[r0:r1]
+            else:
+                keep = r0 + np.flatnonzero(~np.all(self.surface[r0:r1] == SEA, axis=1))
+                if len(keep) == r1 - r0:
+                    self.ray[r0:r1] = self.direction[r0:r1]
+                    self.final_normal[r0:r1] = self.normal[r0:r1]
+                elif len(keep):
+                    self.ray[keep] = self.direction[keep]
+                    self.final_normal[keep] = self.normal[keep]
             if sea_bounces:
                 self.incidence[r0:r1] = np.nan
                 self.sea_rays[r0:r1] = np.nan

@@ -49,7 +49,8 @@ def trace_reflections(scene, frame: Frame, reflections: int,
     """
     require_int_range("reflections", reflections, 0, 2)
     if frame.bounces is None:
-        frame.finish_direct(sea_bounces)
+        # rows all of sea: their ray and final normal are written below
+        frame.finish_direct(sea_bounces, sea_rows=False)
     if sea_bounces and frame.incidence is None:
         frame.incidence = np.full(frame.shape + (2,), np.nan, np.float32)
         frame.sea_rays = np.full(frame.shape + (2, 3), np.nan, np.float32)
