@@ -296,7 +296,7 @@ def pierce_write(flat, q, r, bounces, table, normals, terms, h, part_beach, part
                  f_bounces, f_ray, f_surface, f_part, f_normal):
     """Pierce the islands (:func:`_pierce_all`) and write each ray's final fields into the frame's pixels.
 
-    ``flat`` are row-major pixel indices of the (H, W) frame fields; the
+    ``flat`` are row-major pixel indices of the (H, W) frame fields (ascending); the
     final normal is the island's (:func:`_island_normal` at the hit, the
     point Q + tR), NaN where the ray ends in the sky. Returns the number of
     rays that hit an island.
@@ -308,9 +308,13 @@ def pierce_write(flat, q, r, bounces, table, normals, terms, h, part_beach, part
     _pierce_all(q, r, table, h, part_beach, part_cliff, part_hill, best, which, part)
     W = f_surface.shape[1]
     n_hit = 0
+    yy = 0
+    row_start = 0       # flat is ascending: the row is found by stepping, not by a division
     for j in range(n):
-        yy = flat[j] // W
-        xx = flat[j] - yy * W
+        while flat[j] - row_start >= W:
+            row_start += W
+            yy += 1
+        xx = flat[j] - row_start
         f_bounces[yy, xx] = bounces[j]
         f_ray[yy, xx, 0] = r[j, 0]
         f_ray[yy, xx, 1] = r[j, 1]
