@@ -180,7 +180,7 @@ def _make_all(names, out: Path, scene, log=print, **kw) -> list[Path]:
     try:
         made: dict[str, list[Path]] = {}
         with shared.sharing():                 # frames, codes and lights computed once (sunset.figures.shared)
-            if side:                           # the film beside the rest, on the other core (sunset.figures.lanes)
+            if side:                           # the film (and two more) beside the rest (sunset.figures.lanes)
                 lane = SideLane(side, lambda n: make_figure(n, stage, scene, reuse_from=out, **kw)).start()
             for name in here:
                 start = time.perf_counter()

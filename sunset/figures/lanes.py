@@ -1,10 +1,14 @@
 """Both cores for one ``sunset figures`` run: the film in a second process beside the other figures.
 
 The film is the longest figure (its wave cycle, then 192 exposures and the
-encoders), and it shares nothing with the others. With two or more workers
-(:func:`sunset.tape.cycle.frame_workers`) and other figures to make, they are
-made by a process forked at the start of the run, into the same hidden
-folder, while this process makes the others; the run then waits for it. The
+encoders), and it shares nothing with the others; nor do the ripples and the
+direct-ray diagnostic, which go with it to even the two lanes out (measured:
+the film about 26 s, the others together about 36 s, on the loaded 2-core
+machine). With two or more workers (:func:`sunset.tape.cycle.frame_workers`)
+and other figures to make, they are made by a process forked at the start of
+the run, into the same hidden folder, while this process makes the others; the
+run then waits for it. The sky's spectral data (colour-science's tables, which
+both lanes use) is loaded before the fork, once. The
 files are made by the same functions either way, so they are the same bytes;
 the run stays all or nothing (:func:`sunset.figures._make_all` lands the
 files only when both lanes are done, and an error in either lane, or Ctrl-C,
@@ -22,7 +26,7 @@ from ..errors import SunsetError
 __all__ = ["SIDE", "split", "SideLane"]
 
 #: The figures the second process makes, in this order.
-SIDE = ("film",)
+SIDE = ("film", "ripples", "diagnostic")
 
 
 def _can_fork() -> bool:
@@ -60,6 +64,9 @@ class SideLane:
     def start(self) -> "SideLane":
         import multiprocessing
 
+        from ..model.sky import spectral_data
+
+        spectral_data()                                  # colour-science imported once, for both processes
         ctx = multiprocessing.get_context("fork")
         self.conn, child = ctx.Pipe(duplex=False)
         for stream in (sys.stdout, sys.stderr):          # nothing buffered is written twice

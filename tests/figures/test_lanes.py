@@ -27,9 +27,11 @@ def files(folder: Path) -> dict[str, bytes]:
 
 
 def test_split_puts_the_film_beside_the_rest_only_with_two_workers():
+    """(With the ripples and the diagnostic, which share nothing either.)"""
     names = ["2", "6", "film", "ripples"]
     if _can_fork():
-        assert split(names, 2) == (["2", "6", "ripples"], ["film"])
+        assert split(names, 2) == (["2", "6"], ["film", "ripples"])
+        assert split(["film", "ripples"], 2) == (["ripples"], ["film"])
     assert split(names, 1) == (names, [])                   # --jobs 1: one lane
     assert split(["film"], 2) == (["film"], [])             # nothing to put beside it
     assert split(["2", "6"], 2) == (["2", "6"], [])
