@@ -44,7 +44,7 @@ from numba.extending import intrinsic
 
 from .kernels import jit as _jit
 
-__all__ = ["cos32", "sin32", "cos_into", "sin_into", "sincos_into", "matches_numpy", "probe"]
+__all__ = ["fma32", "fma64", "cos32", "sin32", "cos_into", "sin_into", "sincos_into", "matches_numpy", "probe"]
 
 _F = np.float32
 
@@ -66,16 +66,23 @@ COS_LIMIT, SIN_LIMIT = _F(71476.0625), _F(117435.992)
 _ZERO = _F(0.0)
 
 
-@intrinsic
-def fma32(typingctx, a, b, c):
-    """a·b + c rounded once (LLVM's ``llvm.fma.f32``), float32."""
-    sig = types.float32(types.float32, types.float32, types.float32)
+def _fma_intrinsic(numba_type, llvm_type, doc: str):
+    @intrinsic
+    def fma(typingctx, a, b, c):
+        sig = numba_type(numba_type, numba_type, numba_type)
 
-    def codegen(context, builder, signature, args):
-        f = ir.FloatType()
-        fn = builder.module.declare_intrinsic("llvm.fma", [f], ir.FunctionType(f, [f, f, f]))
-        return builder.call(fn, args)
-    return sig, codegen
+        def codegen(context, builder, signature, args):
+            fn = builder.module.declare_intrinsic("llvm.fma", [llvm_type],
+                                                  ir.FunctionType(llvm_type, [llvm_type] * 3))
+            return builder.call(fn, args)
+        return sig, codegen
+    fma.__doc__ = doc
+    return fma
+
+
+#: a·b + c rounded once (LLVM's ``llvm.fma``), float32 and float64.
+fma32 = _fma_intrinsic(types.float32, ir.FloatType(), "a·b + c rounded once (LLVM's ``llvm.fma.f32``), float32.")
+fma64 = _fma_intrinsic(types.float64, ir.DoubleType(), "a·b + c rounded once (LLVM's ``llvm.fma.f64``), float64.")
 
 
 @_jit

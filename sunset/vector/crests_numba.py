@@ -26,11 +26,9 @@ import functools
 import math
 
 import numpy as np
-from llvmlite import ir
-from numba import types
-from numba.extending import intrinsic
 
 from ..kernels import jit as _jit
+from ..trig_numba import fma64
 from .crests import crest_curvature, crest_lift, largest_train
 
 
@@ -60,18 +58,6 @@ def _quadratic(a, b, c):
     return t_in, t_out, (b != 0.0) or (c >= 0.0)
 
 
-@intrinsic
-def _fma64(typingctx, a, b, c):
-    """a·b + c rounded once (LLVM's ``llvm.fma.f64``), float64."""
-    sig = types.float64(types.float64, types.float64, types.float64)
-
-    def codegen(context, builder, signature, args):
-        f = ir.DoubleType()
-        fn = builder.module.declare_intrinsic("llvm.fma", [f], ir.FunctionType(f, [f, f, f]))
-        return builder.call(fn, args)
-    return sig, codegen
-
-
 @_jit
 def mod_two_pi(x):
     """x mod 2π as ``np.mod`` (and Python's ``%``) gives it, mostly without fmod.
@@ -83,7 +69,7 @@ def mod_two_pi(x):
     the C library's fmod decides, as ``np.mod`` does.
     """
     two_pi = 2.0 * math.pi
-    r = _fma64(-math.floor(x / two_pi), two_pi, x)
+    r = fma64(-math.floor(x / two_pi), two_pi, x)
     if r >= 0.0 and r < two_pi:
         return r
     return x % two_pi
