@@ -159,35 +159,41 @@ def _respond(lin, y, a, s_n, out):
 
 
 @jit
-def _respond_box(lin, y, a, s_n, k, wk, out):
+def _box_into(lin, y, a, s_n, row0, wk, c, k, out):
+    """out[:] = the mean response of the k × k input pixels of output column ``c``, the first of
+    whose k rows starts at ``row0`` (k rows of ``wk`` pixels), summed in row order."""
+    s0 = 0.0
+    s1 = 0.0
+    s2 = 0.0
+    for i in range(k):
+        for j in range(k):
+            p = row0 + i * wk + c * k + j
+            v0, v1, v2 = _respond_one(lin[p, 0], lin[p, 1], lin[p, 2], y[p], a[p], s_n)
+            if i == 0 and j == 0:
+                s0 = v0
+                s1 = v1
+                s2 = v2
+            else:
+                s0 += v0
+                s1 += v1
+                s2 += v2
     kk = k * k
+    out[0] = s0 / kk
+    out[1] = s1 / kk
+    out[2] = s2 / kk
+
+
+@jit
+def _respond_box(lin, y, a, s_n, k, wk, out):
     for r in range(out.shape[0]):
         for c in range(out.shape[1]):
-            s0 = 0.0
-            s1 = 0.0
-            s2 = 0.0
-            for i in range(k):
-                for j in range(k):
-                    p = (r * k + i) * wk + c * k + j
-                    v0, v1, v2 = _respond_one(lin[p, 0], lin[p, 1], lin[p, 2], y[p], a[p], s_n)
-                    if i == 0 and j == 0:
-                        s0 = v0
-                        s1 = v1
-                        s2 = v2
-                    else:
-                        s0 += v0
-                        s1 += v1
-                        s2 += v2
-            out[r, c, 0] = s0 / kk
-            out[r, c, 1] = s1 / kk
-            out[r, c, 2] = s2 / kk
+            _box_into(lin, y, a, s_n, r * k * wk, wk, c, k, out[r, c])
 
 
 @jit
 def _display_fused(flat, scale, m, e, s_n, k, wk, out):
     """:func:`_linear_rgb`, yⁿ and :func:`_respond_box` (the same operations), one row of output pixels at a
     time: the k input rows' linear RGB and Y, their powers in one tight loop, then the response and the box."""
-    kk = k * k
     n_row = k * wk
     lin = np.empty((n_row, 3))
     y = np.empty(n_row)
@@ -204,24 +210,7 @@ def _display_fused(flat, scale, m, e, s_n, k, wk, out):
         for q in range(n_row):
             a[q] = y[q] ** e
         for c in range(out.shape[1]):
-            s0 = 0.0
-            s1 = 0.0
-            s2 = 0.0
-            for i in range(k):
-                for j in range(k):
-                    q = i * wk + c * k + j
-                    v0, v1, v2 = _respond_one(lin[q, 0], lin[q, 1], lin[q, 2], y[q], a[q], s_n)
-                    if i == 0 and j == 0:
-                        s0 = v0
-                        s1 = v1
-                        s2 = v2
-                    else:
-                        s0 += v0
-                        s1 += v1
-                        s2 += v2
-            out[r, c, 0] = s0 / kk
-            out[r, c, 1] = s1 / kk
-            out[r, c, 2] = s2 / kk
+            _box_into(lin, y, a, s_n, 0, wk, c, k, out[r, c])
 
 
 @jit
