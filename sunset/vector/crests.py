@@ -20,7 +20,7 @@ from ..model.stokes import series_crest_curvature
 from ..model.waves import Sea, WaveTrain
 from .pierce import first_entry, gather, quadratic_interval, reflect
 
-__all__ = ["largest_train", "crest_curvature", "CrestCylinder", "harmonic_sum", "crest_lift", "crest_candidates",
+__all__ = ["largest_train", "crest_curvature", "CrestCylinder", "harmonic_sum", "crest_lift", "crest_rise", "crest_candidates",
            "crest_cylinder", "cylinder_coefficients", "secondary_reflections"]
 
 
@@ -84,6 +84,11 @@ def harmonic_sum(amps, c):
     return out
 
 
+def _ahead(psi, rate):
+    """Phase from a ray's origin (ψ = θ mod 2π) to the next crest ahead of it, radians (see :func:`crest_cylinder`)."""
+    return np.where(rate >= 0.0, 2.0 * math.pi - psi, np.where(psi > 0.0, -psi, -2.0 * math.pi))
+
+
 def _crest_ahead(train: WaveTrain, t: float, q, r):
     """(ψ = θ mod 2π at the origin, the rate ℓR_x + mR_y of θ along the ray, u₀) for :func:`crest_cylinder`."""
     k = train.k
@@ -91,8 +96,7 @@ def _crest_ahead(train: WaveTrain, t: float, q, r):
     theta = l * q[..., 0] + m * q[..., 1] - train.omega * t + train.phase
     rate = l * r[..., 0] + m * r[..., 1]
     psi = np.mod(theta, 2.0 * math.pi)
-    ahead = np.where(rate >= 0.0, 2.0 * math.pi - psi, np.where(psi > 0.0, -psi, -2.0 * math.pi))
-    return psi, rate, -ahead / k
+    return psi, rate, -_ahead(psi, rate) / k
 
 
 def crest_lift(train: WaveTrain) -> float:
@@ -104,30 +108,52 @@ def crest_lift(train: WaveTrain) -> float:
     return 2.0 * float(np.sum(train.harmonic_amplitudes())) * (1.0 + 1e-6) + 1e-9
 
 
+#: How far the crest's bounding test reaches beyond its bound, relative (far beyond rounding).
+CREST_GRACE = 1e-7
+
+
+def crest_rise(amps, psi):
+    """A bound on top − Q_z = Σ a_n (1 − cos nψ) without a cosine, metres (ψ = θ mod 2π at the origin).
+
+    With x = n·min(ψ, 2π − ψ), 1 − cos x <= x²/2 − x⁴/24 + x⁶/720 for every
+    real x (the Taylor series of the cosine stopped after a negative term is
+    a lower bound), and 1 − cos x <= 2.
+    """
+    psi = np.asarray(psi, dtype=float)
+    near = np.minimum(psi, 2.0 * math.pi - psi)
+    out = np.zeros_like(near)
+    for n, a in enumerate(amps, start=1):
+        x2 = (n * near) * (n * near)
+        out = out + a * np.minimum(2.0, x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0))))
+    return out
+
+
 def crest_candidates(train: WaveTrain, t: float, q, r) -> np.ndarray:
     """Rays that may meet their crest cylinder: a bounding test before the cosines and the quadratic.
 
     Along the ray, F(t) = top − κu(t)²/2 − Q_z − R_z t with u(t) = u₀ + w t
-    (:func:`cylinder_coefficients`), and top − Q_z <= L = :func:`crest_lift`.
-    A ray heading up (R_z > 0) is above the cylinder for t > L/R_z, and
-    within that reach it can only be inside where κu²/2 <= L, i.e.
-    |u| <= √(2L/κ). When u stays beyond that half-width on one side over the
-    whole reach, the ray clears the crest: F < 0 for every t > 0. Rays heading
-    down or level are always candidates. Like :func:`island_candidates`, the
-    test only skips work.
+    (:func:`cylinder_coefficients`: F = a t² + b t + c), and top − Q_z is at
+    most L = :func:`crest_rise` of the origin's phase, which needs no cosine.
+    With c' = L − κu₀²/2 >= c in place of c, the ray reaches F >= 0 at some
+    t > 0 only if c' >= 0, or b > 0 (F rises) and b² − 4ac' >= 0: rays
+    that fail both clear the crest. The bound is widened by a grace far
+    beyond rounding (:data:`CREST_GRACE`; u₀ and w are taken with 1/k, a
+    rounding the grace covers), so, like :func:`sunset.vector.pierce.island_candidates`,
+    the test only skips rays that miss: the quadratic decides.
     """
     q = np.asarray(q, dtype=float)
     r = np.asarray(r, dtype=float)
-    _, rate, u0 = _crest_ahead(train, t, q, r)
-    w = rate / train.k
-    lift = crest_lift(train)
-    half = math.sqrt(2.0 * lift / crest_curvature(train))
-    rz = r[..., 2]
-    up = rz > 0.0
-    reach = np.where(up, lift / np.where(up, rz, 1.0), 0.0)
-    u_end = u0 + w * reach
-    clear = up & (((u0 > half) & (u_end > half)) | ((u0 < -half) & (u_end < -half)))
-    return ~clear
+    psi, rate, _ = _crest_ahead(train, t, q, r)
+    inv_k = 1.0 / train.k
+    u0 = -_ahead(psi, rate) * inv_k
+    w = rate * inv_k
+    kappa = crest_curvature(train)
+    amps = train.harmonic_amplitudes()
+    a = -0.5 * kappa * w * w
+    b = -kappa * u0 * w - r[..., 2]
+    bow = 0.5 * kappa * u0 * u0
+    c = crest_rise(amps, psi) - bow + CREST_GRACE * (np.abs(q[..., 2]) + float(np.sum(amps)) + bow)
+    return (c >= 0.0) | ((b > 0.0) & (b * b - 4.0 * a * c >= 0.0))
 
 
 def crest_cylinder(train: WaveTrain, t: float, q, r) -> CrestCylinder:

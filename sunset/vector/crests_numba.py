@@ -1,21 +1,19 @@
-"""Numba kernels of the sea pixels' rays, one ray at a time: reflect, pierce the crest, reflect again.
+"""Numba kernels of the secondary reflections, one ray at a time: pierce the crest, reflect again.
 
 For :func:`sunset.vector.reflect_numba.trace_sea_rays`, the twin of
 :func:`sunset.vector.reflect.trace_sea_rays`:
 
-* :func:`crest_distance` is the distance along a ray to its crest cylinder
-  (:func:`sunset.vector.crests.crest_candidates`, :func:`~sunset.vector.crests.crest_cylinder`,
-  :func:`~sunset.vector.crests.cylinder_coefficients`, :func:`sunset.vector.pierce.first_entry`),
-  the cosine of the reduced phase taken in the loop (float64 ``math.cos``,
-  which is the C library's ``cos`` that NumPy's float64 ``np.cos`` calls);
+* :func:`crest_phase` is the bounding test of :func:`sunset.vector.crests.crest_candidates`
+  (no cosine: :func:`~sunset.vector.crests.crest_rise` bounds the crest's height) and
+  :func:`crest_entry` the distance along a candidate to its crest cylinder
+  (:func:`~sunset.vector.crests.crest_cylinder`, :func:`~sunset.vector.crests.cylinder_coefficients`,
+  :func:`sunset.vector.pierce.first_entry`), the cosine of the reduced phase taken in
+  the loop (float64 ``math.cos``, which is the C library's ``cos`` that NumPy's
+  float64 ``np.cos`` calls); :func:`crest_distance` is the two together;
 * :func:`sea_normal` is :meth:`sunset.model.waves.Sea.normal` at one point
-  (float64 sine and cosine, the harmonics by the angle-sum recurrence);
-* :func:`sea_rays` gathers the sea pixels of a strip of rows, reflects each
-  ray (:func:`sunset.vector.pierce.reflect`), with two reflections pierces
-  its crest and reflects the hits off the true wave normal, records the
-  bounces for the RGB back end (:func:`sunset.vector.reflect.record_bounces`)
-  and folds R_z up: one pass, nothing written twice.
+  (float64 sine and cosine, the harmonics by the angle-sum recurrence).
 
+:func:`sunset.vector.reflect_numba.trace_strip` calls them on the sea pixels' rays.
 The same operations in the same order as the NumPy reference: the frames
 are identical (tests).
 """
@@ -29,7 +27,7 @@ import numpy as np
 
 from ..kernels import jit as _jit
 from ..trig_numba import fma64
-from .crests import crest_curvature, crest_lift, largest_train
+from .crests import CREST_GRACE, crest_curvature, largest_train
 
 
 @_jit
@@ -87,29 +85,90 @@ def _phase_ahead(rate, ps):
 
 
 @_jit
-def crest_phase(qx, qy, rx, ry, rz, crest):
-    """(may it meet its crest, ψ = θ mod 2π at its origin) for one ray: the bounding test of
-    :func:`sunset.vector.crests.crest_candidates`.
+def _crest_bound(ps, qz, rx, ry, rz, crest, amps):
+    """The bounding test of :func:`sunset.vector.crests.crest_candidates` for one ray, from its ψ."""
+    l, m, omega_t, phase, k, amp_sum, kappa = crest
+    two_pi = 2.0 * math.pi
+    rate = l * rx + m * ry
+    inv_k = 1.0 / k
+    u0 = -_phase_ahead(rate, ps) * inv_k
+    w = rate * inv_k
+    near = min(ps, two_pi - ps)
+    rise = 0.0
+    for n in range(amps.shape[0]):
+        x2 = ((n + 1) * near) * ((n + 1) * near)
+        rise = rise + amps[n] * min(2.0, x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0))))
+    a = -0.5 * kappa * w * w
+    b = -kappa * u0 * w - rz
+    bow = 0.5 * kappa * u0 * u0
+    c = rise - bow + CREST_GRACE * (abs(qz) + amp_sum + bow)
+    return (c >= 0.0) | ((b > 0.0) & (b * b - 4.0 * a * c >= 0.0))
 
-    ``crest`` = (ℓ, m, ωt, φ, k, lift, half-width, Σ a_n, κ) of the largest
-    train (:func:`crest_constants`).
+
+@_jit
+def crest_phase(qx, qy, qz, rx, ry, rz, crest, amps):
+    """(may it meet its crest, ψ = θ mod 2π at its origin) for one ray: the bounding test of
+    :func:`sunset.vector.crests.crest_candidates` (its bound :func:`~sunset.vector.crests.crest_rise`).
+
+    ``crest`` = (ℓ, m, ωt, φ, k, Σ a_n, κ) of the largest train and ``amps``
+    its a_n (:func:`crest_constants`).
     """
-    l, m, omega_t, phase, k, lift, half, amp_sum, kappa = crest
-    theta = l * qx + m * qy - omega_t + phase
-    ps = mod_two_pi(theta)
-    if rz > 0.0:
-        rate = l * rx + m * ry
-        u0 = -_phase_ahead(rate, ps) / k
-        u_end = u0 + (rate / k) * (lift / rz)
-        if (u0 > half and u_end > half) or (u0 < -half and u_end < -half):
-            return False, ps
-    return True, ps
+    l, m, omega_t, phase = crest[0], crest[1], crest[2], crest[3]
+    ps = mod_two_pi(l * qx + m * qy - omega_t + phase)
+    return _crest_bound(ps, qz, rx, ry, rz, crest, amps), ps
+
+
+@_jit
+def crest_block(n, qx, qy, qz, rx, ry, rz, crest, amps, psi, keep, scratch):
+    """ψ and the crest's bounding test for the first ``n`` rays of a block, in loops over the block.
+
+    What :func:`crest_phase` does ray by ray, with the same operations, as
+    whole-block loops without branches that the compiler vectorises: ψ by
+    one fused multiply-add (the quotient by 1/2π; where it rounded across an
+    integer the result falls outside [0, 2π), and those rays, with
+    infinities and NaN, take the C library's fmod in a second loop, as
+    :func:`mod_two_pi` does); then each harmonic's bound, then the test.
+    ``scratch`` is (5, block) float64.
+    """
+    l, m, omega_t, phase, k, amp_sum, kappa = crest
+    two_pi = 2.0 * math.pi
+    inv_two_pi = 1.0 / two_pi
+    inv_k = 1.0 / k
+    theta, near, rise, a_, b_ = scratch[0], scratch[1], scratch[2], scratch[3], scratch[4]
+    for j in range(n):
+        x = l * qx[j] + m * qy[j] - omega_t + phase
+        theta[j] = x
+        psi[j] = fma64(-math.floor(x * inv_two_pi), two_pi, x)
+    for j in range(n):
+        p = psi[j]
+        if not (p >= 0.0 and p < two_pi):
+            psi[j] = theta[j] % two_pi
+    for j in range(n):
+        p = psi[j]
+        rate = l * rx[j] + m * ry[j]
+        ahead = (two_pi - p) if rate >= 0.0 else ((-p) if p > 0.0 else -two_pi)
+        u0 = -ahead * inv_k
+        w = rate * inv_k
+        near[j] = min(p, two_pi - p)
+        rise[j] = 0.0
+        a_[j] = -0.5 * kappa * w * w
+        b_[j] = -kappa * u0 * w - rz[j]
+        theta[j] = 0.5 * kappa * u0 * u0
+    for h in range(amps.shape[0]):
+        an = amps[h]
+        for j in range(n):
+            x2 = ((h + 1) * near[j]) * ((h + 1) * near[j])
+            rise[j] = rise[j] + an * min(2.0, x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0))))
+    for j in range(n):
+        bow = theta[j]
+        c = rise[j] - bow + CREST_GRACE * (abs(qz[j]) + amp_sum + bow)
+        keep[j] = (c >= 0.0) | ((b_[j] > 0.0) & (b_[j] * b_[j] - 4.0 * a_[j] * c >= 0.0))
 
 
 @_jit
 def crest_entry(qx, qy, qz, rx, ry, rz, ps, crest, amps):
     """Distance along a candidate ray to its crest cylinder (ψ from :func:`crest_phase`), +inf where it misses."""
-    l, m, omega_t, phase, k, lift, half, amp_sum, kappa = crest
+    l, m, omega_t, phase, k, amp_sum, kappa = crest
     rate = l * rx + m * ry
     u0 = -_phase_ahead(rate, ps) / k
     # Σ a_n cos nθ by the Chebyshev recurrence (sunset.vector.crests.harmonic_sum), cos θ = cos ψ
@@ -136,20 +195,19 @@ def crest_entry(qx, qy, qz, rx, ry, rz, ps, crest, amps):
 @_jit
 def crest_distance(qx, qy, qz, rx, ry, rz, crest, amps):
     """Distance along one ray to its crest cylinder, +inf where it clears the crest or misses."""
-    keep, ps = crest_phase(qx, qy, rx, ry, rz, crest)
+    keep, ps = crest_phase(qx, qy, qz, rx, ry, rz, crest, amps)
     if not keep:
         return np.inf
     return crest_entry(qx, qy, qz, rx, ry, rz, ps, crest, amps)
 
 
 def crest_constants(train, t: float):
-    """(ℓ, m, ωt, φ, k, lift, half-width √(2 lift/κ), Σ a_n, κ) and the a_n of a train, for :func:`crest_distance`."""
+    """(ℓ, m, ωt, φ, k, Σ a_n, κ) and the a_n of a train, for :func:`crest_distance`."""
     l, m = train.wave_vector
     amps = np.ascontiguousarray(train.harmonic_amplitudes(), dtype=np.float64)
     kappa = float(crest_curvature(train))
-    lift = crest_lift(train)
-    return ((float(l), float(m), float(train.omega * t), float(train.phase), float(train.k), lift,
-             math.sqrt(2.0 * lift / kappa), float(np.sum(amps)), kappa), amps)
+    return ((float(l), float(m), float(train.omega * t), float(train.phase), float(train.k),
+             float(np.sum(amps)), kappa), amps)
 
 
 def sea_constants(sea, t: float):
@@ -191,109 +249,8 @@ def sea_normal(x, y, waves, coef, count):
     return -zb * fx, -zb * fy, zb
 
 
-@_jit
-def sea_rays(surface, point, direction, normal, sea_code, second, crest, amps, waves, coef, count,
-             record, incidence, sea_rays_out, flat, q, r, bounces):
-    """Every sea pixel's ray of a strip, row-major: reflected, maybe reflected again, R_z folded up.
-
-    Fills ``flat`` (row-major pixel index), ``q``, ``r`` (float64, after
-    |R_z|) and ``bounces``; with ``record``, ``incidence`` and
-    ``sea_rays_out`` at those pixels. Returns the lowest origin of a ray
-    heading up (+inf: none), as the island table needs. Two passes, as
-    the reference's compress: reflect every ray and test it against its
-    crest; pierce the candidates' crests and reflect the hits again. R_z is
-    folded up where a ray is final (a candidate's after its crest).
-    """
-    H, W = surface.shape
-    n = q.shape[0]
-    cand = np.empty(n if second else 0, np.intp)
-    psi = np.empty(n if second else 0)
-    n_cand = 0
-    z0 = np.inf
-    j = 0
-    for yy in range(H):
-        for xx in range(W):
-            if surface[yy, xx] != sea_code:
-                continue
-            flat[j] = yy * W + xx
-            dx = np.float64(direction[yy, xx, 0])
-            dy = np.float64(direction[yy, xx, 1])
-            dz = np.float64(direction[yy, xx, 2])
-            nx = np.float64(normal[yy, xx, 0])
-            ny = np.float64(normal[yy, xx, 1])
-            nz = np.float64(normal[yy, xx, 2])
-            dot = dx * nx + dy * ny + dz * nz
-            two = 2.0 * dot
-            qx = np.float64(point[yy, xx, 0])
-            qy = np.float64(point[yy, xx, 1])
-            q[j, 0] = qx
-            q[j, 1] = qy
-            q[j, 2] = np.float64(point[yy, xx, 2])
-            rx = dx - two * nx
-            ry = dy - two * ny
-            rz = dz - two * nz
-            r[j, 0] = rx
-            r[j, 1] = ry
-            r[j, 2] = rz
-            bounces[j] = 1
-            if record:
-                incidence[yy, xx, 0] = -dot
-                sea_rays_out[yy, xx, 0, 0] = rx
-                sea_rays_out[yy, xx, 0, 1] = ry
-                sea_rays_out[yy, xx, 0, 2] = rz
-            keep = False
-            if second:
-                keep, ps = crest_phase(qx, qy, rx, ry, rz, crest)
-                if keep:
-                    cand[n_cand] = j
-                    psi[n_cand] = ps
-                    n_cand += 1
-            if not keep:                      # final: fold R_z up (a candidate's, after its crest)
-                rz = abs(rz)
-                r[j, 2] = rz
-                if rz >= 0.0 and q[j, 2] < z0:
-                    z0 = q[j, 2]
-            j += 1
-    for c in range(n_cand):
-        j = cand[c]
-        qx, qy, qz = q[j, 0], q[j, 1], q[j, 2]
-        rx, ry, rz = r[j, 0], r[j, 1], r[j, 2]
-        t = crest_entry(qx, qy, qz, rx, ry, rz, psi[c], crest, amps)
-        if t < np.inf:
-            px = qx + t * rx
-            py = qy + t * ry
-            pz = qz + t * rz
-            mx, my, mz = sea_normal(px, py, waves, coef, count)
-            two = 2.0 * (rx * mx + ry * my + rz * mz)
-            sx = rx - two * mx
-            sy = ry - two * my
-            sz = rz - two * mz
-            if record:
-                yy = flat[j] // W
-                xx = flat[j] - yy * W
-                ex = sx - rx
-                ey = sy - ry
-                ez = sz - rz
-                incidence[yy, xx, 1] = 0.5 * math.sqrt(ex * ex + ey * ey + ez * ez)
-                sea_rays_out[yy, xx, 1, 0] = sx
-                sea_rays_out[yy, xx, 1, 1] = sy
-                sea_rays_out[yy, xx, 1, 2] = sz
-            q[j, 0] = px
-            q[j, 1] = py
-            q[j, 2] = pz
-            r[j, 0] = sx
-            r[j, 1] = sy
-            r[j, 2] = sz
-            bounces[j] = 2
-        rz = abs(r[j, 2])
-        r[j, 2] = rz
-        if rz >= 0.0 and q[j, 2] < z0:
-            z0 = q[j, 2]
-    return z0
-
-
 def second_bounce_constants(sea, t: float):
-    """What :func:`sea_rays` needs for two reflections: (crest constants, a_n, waves, n·a_n, counts), or None.
+    """What :func:`sunset.vector.reflect_numba.trace_strip` needs for two reflections: (crest constants, a_n, waves, n·a_n, counts), or None.
 
     Kept for the last few (sea, t): every strip of a frame asks for the same (the arrays are only read).
     """

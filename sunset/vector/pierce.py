@@ -60,6 +60,7 @@ order and gives the same frame.
 
 from __future__ import annotations
 
+import math
 
 import numpy as np
 
@@ -70,7 +71,7 @@ from ..model.waves import unit_normal
 
 __all__ = [
     "reflect", "paraboloid_coefficients", "quadratic_interval", "first_entry", "pierce_paraboloid",
-    "island_intervals", "pierce_island", "pierce_islands", "island_candidates", "island_gradient", "island_normal",
+    "island_intervals", "pierce_island", "pierce_islands", "island_bounds", "island_candidates", "island_gradient", "island_normal",
     "gather", "scatter",
 ]
 
@@ -321,35 +322,81 @@ def pierce_islands(islands, eye_height: float, q, r):
     return best.reshape(shape), which.reshape(shape), part.reshape(shape)
 
 
+#: How far the bounding test reaches beyond the bounding paraboloids, relative (a million times the
+#: rounding of the quadratics, which the test must never undercut).
+BOUND_GRACE = 1e-6
+
+
+def _bounding_paraboloid(top: float, e: float, f: float, g: float, scale: float = 1.0):
+    """(λ, λ − grace·Λ, top + grace·(1 + |top|), grace) of the bound top − λd² over z = top − scale·(e u² + f u v + g v²).
+
+    λ is the form's smallest eigenvalue taken a little low, so that rounding
+    cannot make it too large (then top − λ d² >= the paraboloid everywhere),
+    Λ the largest. ``grace`` widens the test in proportion to Λ/λ, how much
+    the quadratics' rounding can exceed the bounding paraboloid; a form too
+    thin to bound (λ = 0) makes every ray a candidate.
+    """
+    spread = math.hypot(e - g, f)
+    lam = max(0.0, 0.5 * (e + g - spread) * (1.0 - 1e-9) - 1e-12 * (e + g)) * scale
+    if not lam > 0.0:
+        return 0.0, 0.0, math.inf, 0.0
+    big = 0.5 * (e + g + spread) * scale
+    grace = BOUND_GRACE * max(1.0, big / lam)
+    return lam, lam - grace * big, top + grace * (1.0 + abs(top)), grace
+
+
+def island_bounds(island: Island, eye_height: float):
+    """The bounding paraboloids of revolution of the beach and of cliff ∩ hill, for :func:`island_candidates`.
+
+    Two tuples (λ, λ − grace·Λ, top + grace·(1 + |top|), grace)
+    (:func:`_bounding_paraboloid`), tops in eye coordinates (height above mean sea
+    level − ``eye_height``). Cliff ∩ hill lies under the hill, whose form is
+    the cliff's times the hill factor and whose top is cliff_top +
+    hill_factor·(cliff height − cliff_top); the hill's bound is the tighter
+    of the two for the islands of the scenes (the cliff's adds little).
+    """
+    h = float(eye_height)
+    cl, bc, k = island.cliff, island.beach, island.hill_factor
+    return (_bounding_paraboloid(bc.height - h, bc.e, bc.f, bc.g),
+            _bounding_paraboloid(island.cliff_top + k * (cl.height - island.cliff_top) - h, cl.e, cl.f, cl.g, k))
+
+
 def island_candidates(island: Island, eye_height: float, q, r) -> np.ndarray:
     """Rays that may hit ``island``: a cheap bounding test before the quadratics.
 
-    A ray with R_z >= 0 never goes below its origin, so it can only enter the
-    island where the beach or the cliff paraboloid stands above the lowest
-    such origin z₀: inside a circle about the apex of radius
-    ρ = √((top − z₀)/λ_min), λ_min the smaller eigenvalue of the quadratic
-    form (cliff ∩ hill lies under the cliff). The ray is a candidate if its
-    horizontal line passes within ρ of the apex, not behind the origin, or if
-    its origin is within ρ. Rays heading down are always candidates. The test
-    only skips work: the quadratics decide.
+    A paraboloid P = top − (e u² + f u v + g v²) lies under the paraboloid
+    of revolution top − λ d², λ the form's smallest eigenvalue and d the
+    distance from the apex. Along the ray, d(t)² = c² − 2 t a + t² |R_h|²
+    (c the horizontal distance from the origin to the apex, a = R_h·(apex −
+    Q_h)), so the ray is under that bound where
+
+        G(t) = λ|R_h|² t² + (R_z − 2λa) t + λc² − (top − Q_z) <= 0.
+
+    G is convex: its least value over t >= 0 is G(0) when 2λa <= R_z, else
+    G(0) − (2λa − R_z)²/(4λ|R_h|²). A ray that reaches no point under the
+    beach's bound nor under the hill's (over cliff ∩ hill) cannot hit the
+    island (:func:`island_bounds`). Every ray is tested on its own, heading
+    up or down; the test is widened by a grace far beyond rounding, so it
+    only skips rays that miss: the quadratics decide.
     """
     q = np.asarray(q, dtype=float)
     r = np.asarray(r, dtype=float)
-    up = r[..., 2] >= 0.0
-    if not up.any():
-        return np.ones(q.shape[:-1], bool)
-    z0 = float(np.min(q[..., 2][up]))
-    rho = island.smooth_radius(eye_height + z0)
-    top = island.smooth_height
     cx = island.x - q[..., 0]
     cy = island.y - q[..., 1]
-    rx, ry, rz = r[..., 0], r[..., 1], r[..., 2]
-    horiz = np.sqrt(rx * rx + ry * ry)
-    along = rx * cx + ry * cy  # |R_h| times the distance to the apex along the ray's horizontal line
-    near_line = (np.abs(rx * cy - ry * cx) <= rho * horiz) & (along > -rho * horiz)
-    # ... and the ray is still below the island's top when it reaches the circle
-    low_enough = (along - rho * horiz) * rz <= (top - eye_height - q[..., 2]) * horiz * horiz
-    return ~up | (near_line & low_enough) | (cx * cx + cy * cy <= rho * rho)
+    rx, ry, rz, qz = r[..., 0], r[..., 1], r[..., 2], q[..., 2]
+    c2 = cx * cx + cy * cy
+    along = rx * cx + ry * cy
+    h2 = rx * rx + ry * ry
+
+    def under(lam, lo, hi, grace):
+        # λc² − (top − Q_z) − grace·(1 + |top| + |Q_z| + Λc²), the least value of G if 2λa <= R_z
+        slack = lo * c2 + (qz - grace * np.abs(qz)) - hi
+        k = 2.0 * lam * along - rz
+        with np.errstate(invalid="ignore"):      # λ = 0: 0·(−inf), and every ray is a candidate
+            return (slack <= 0.0) | ((k > 0.0) & (k * k >= 4.0 * lam * h2 * slack))
+
+    beach, upper = island_bounds(island, eye_height)
+    return under(*beach) | under(*upper)
 
 
 def island_gradient(island: Island, x, y, part):

@@ -1,22 +1,27 @@
-"""Numba twin of :func:`sunset.vector.reflect.trace_sea_rays`: the reflected rays of a strip in two compiled passes.
+"""Numba twin of :func:`sunset.vector.reflect.trace_sea_rays`: the reflected rays of a strip in one compiled pass.
 
-* :func:`sunset.vector.crests_numba.sea_rays` gathers the sea pixels of the
-  strip and reflects their rays (R = D − 2(D·N)N, :func:`sunset.vector.pierce.reflect`);
-  with two reflections it pierces each ray's crest cylinder and reflects the
-  hits again off the true wave normal, all in the same loop, with the crest's
-  cosine and the wave normal's sines and cosines taken there (float64, the C
-  library's, as NumPy's); it records the bounces for the RGB back end and
-  folds R_z up.
-* :func:`pierce_write` is :func:`sunset.vector.pierce.pierce_islands` (each
-  ray against every island's bounding circle, then the three quadratics, the
-  nearest hit kept) with the final fields written straight into the frame.
-* :func:`pierce_islands` and :func:`crest_hits` are the compiled island and
-  crest piercing on their own (the tests hold them against the reference's).
+:func:`trace_strip` walks the strip's pixels and gathers the sea pixels' rays,
+reflected (R = D − 2(D·N)N, :func:`sunset.vector.pierce.reflect`), into
+blocks of :data:`_BLOCK` rays that stay in the cache; :func:`_finish_block`
+then does, block by block:
 
-The island normals of the rays that hit are taken in the same loop
-(:func:`_island_normal`, :func:`sunset.vector.pierce.island_normal`'s operations). The same
-operations in the same order as the NumPy reference: the frames are
-identical (tests). Chosen by :mod:`sunset.kernels`.
+* with two reflections, the crests' bounding test for the whole block in
+  loops the compiler vectorises (:func:`sunset.vector.crests_numba.crest_block`),
+  then each candidate's crest cylinder and, where it is hit, the second
+  reflection off the true wave normal (float64 sines and cosines, the C
+  library's, as NumPy's); the bounces recorded for the RGB back end; R_z folded up;
+* :func:`_pierce_block`: :func:`sunset.vector.pierce.pierce_islands`, the
+  bounding paraboloids of every island for the whole block (vectorised),
+  then the three quadratics where a ray may hit, the nearest hit kept;
+* the frame's final fields written at each ray's pixel, with the island's
+  normal at the hit (:func:`_island_normal`, :func:`sunset.vector.pierce.island_normal`'s operations).
+
+No ray is written to memory outside its block. :func:`pierce_islands` and
+:func:`crest_hits` are the compiled island and crest piercing on their own
+(the tests hold them against the reference's). The same operations in the
+same order as the NumPy reference where they decide a value; the bounding
+tests only skip rays that miss: the frames are identical (tests). Chosen by
+:mod:`sunset.kernels`.
 """
 
 from __future__ import annotations
@@ -27,7 +32,9 @@ import numpy as np
 
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..kernels import jit as _jit
-from .crests_numba import _quadratic, crest_constants, crest_distance, sea_rays, second_bounce_constants
+from .crests_numba import (_quadratic, crest_block, crest_constants, crest_distance, crest_entry, sea_normal,
+                           second_bounce_constants)
+from .pierce import island_bounds
 from .frame import Frame
 
 
@@ -53,39 +60,46 @@ def crest_hits(train, t: float, q, r) -> np.ndarray:
     return out
 
 
-#: Columns of :func:`island_table`.
-_ISLAND_COLUMNS = ("x", "y", "ce", "cf", "cg", "c_top", "ct", "k", "be", "bf", "bg", "b_top", "rho", "top_h")
+#: Columns of :func:`island_table`: the apex, the three quadratics' constants, then (λ, lo, hi, grace) of the
+#: beach's and the upper part's bounding paraboloids (:func:`sunset.vector.pierce.island_bounds`).
+_ISLAND_COLUMNS = ("x", "y", "ce", "cf", "cg", "c_top", "ct", "k", "be", "bf", "bg", "b_top",
+                   "b_lam", "b_lo", "b_hi", "b_grace", "u_lam", "u_lo", "u_hi", "u_grace")
 
 
-def island_table(islands, eye_height: float, z0: float) -> np.ndarray:
-    """The islands' parameters as rows of a float64 table for :func:`pierce_islands`.
+def island_table(islands, eye_height: float) -> np.ndarray:
+    """The islands' parameters as rows of a float64 table for :func:`pierce_islands` and :func:`trace_strip`.
 
-    Heights are turned into eye coordinates exactly as :func:`sunset.vector.pierce.island_intervals`
-    does; ``rho`` and ``top_h`` are the bounding circle of
-    :func:`sunset.vector.pierce.island_candidates` for origins no lower than ``z0``.
+    The bounding paraboloids are :func:`sunset.vector.pierce.island_bounds`' (the same numbers).
     """
-    h = float(eye_height)
     rows = []
     for isl in islands:
-        rho, top = isl.smooth_radius(h + z0), isl.smooth_height
         cl, bc = isl.cliff, isl.beach
+        bounds = [v for part in island_bounds(isl, eye_height) for v in part]
         rows.append([isl.x, isl.y, cl.e, cl.f, cl.g, cl.height, isl.cliff_top, isl.hill_factor,
-                     bc.e, bc.f, bc.g, bc.height, rho, top - h])
+                     bc.e, bc.f, bc.g, bc.height] + bounds)
     return np.array(rows, dtype=np.float64).reshape(len(rows), len(_ISLAND_COLUMNS))
 
 
 @_jit
-def _is_candidate(qx, qy, qz, rx, ry, rz, horiz, X, Y, rho, top_h):
-    """The bounding test of sunset.vector.pierce.island_candidates for one ray and one island.
+def _under(c2, along, h2, qz, rz, lam, lo, hi, grace):
+    """May the ray reach a point under a bounding paraboloid (sunset.vector.pierce.island_candidates)."""
+    slack = lo * c2 + (qz - grace * abs(qz)) - hi
+    k = 2.0 * lam * along - rz
+    return (slack <= 0.0) | ((k > 0.0) & (k * k >= 4.0 * lam * h2 * slack))
 
-    ``horiz`` = √(R_x² + R_y²), the same for every island (taken once per ray).
+
+@_jit
+def _is_candidate(qx, qy, qz, rx, ry, rz, h2, row):
+    """The bounding test of sunset.vector.pierce.island_candidates for one ray and one island (a table row).
+
+    ``h2`` = R_x² + R_y², the same for every island (taken once per ray).
     """
-    cx = X - qx
-    cy = Y - qy
+    cx = row[0] - qx
+    cy = row[1] - qy
+    c2 = cx * cx + cy * cy
     along = rx * cx + ry * cy
-    near_line = (abs(rx * cy - ry * cx) <= rho * horiz) & (along > -rho * horiz)
-    low_enough = (along - rho * horiz) * rz <= (top_h - qz) * horiz * horiz
-    return (rz < 0.0) | (near_line & low_enough) | (cx * cx + cy * cy <= rho * rho)
+    return (_under(c2, along, h2, qz, rz, row[12], row[13], row[14], row[15])
+            | _under(c2, along, h2, qz, rz, row[16], row[17], row[18], row[19]))
 
 
 @_jit
@@ -139,81 +153,74 @@ def _pierce_one(qx, qy, qz, rx, ry, rz, row, h, part_beach, part_cliff, part_hil
     return beach_t, part_beach
 
 
-#: Rays per block of the candidate pass: its flags stay in the cache.
+#: Rays per block: a block's rays, flags and hits stay in the cache.
 _BLOCK = 512
 
 
 @_jit
-def _pierce_all(q, r, table, h, part_beach, part_cliff, part_hill, best, which, part):
-    """Every ray against every island in turn: bounding test, quadratics, nearest hit so far.
+def _pierce_block(m, qx, qy, qz, rx, ry, rz, h2, flags, table, h, part_beach, part_cliff, part_hill,
+                  best, which, part):
+    """The first ``m`` rays of a block against every island: bounding tests, quadratics, nearest hit.
 
     The reference's island-by-island passes (candidates, then their
     quadratics) with the loops swapped: each ray keeps the same nearest hit,
-    first island among equals. Block by block of rays, the bounding tests of
-    every island come first, in a loop without branches (vectorised), then
-    each ray's quadratics where its flag is set.
+    first island among equals. The bounding tests of every island come
+    first, in a loop without branches (vectorised), then each ray's
+    quadratics where its flag is set. ``best``, ``which`` and ``part`` are
+    written for the ``m`` rays (+inf, ``which``'s value as given, 0 where none is hit).
     """
-    n = q.shape[0]
     n_isl = table.shape[0]
-    flags = np.empty((max(n_isl, 1), _BLOCK), np.bool_)
-    # the block's rays component by component (in the cache), for the vectorised bounding tests
+    for j in range(m):
+        h2[j] = rx[j] * rx[j] + ry[j] * ry[j]
+    for i in range(n_isl):
+        row = table[i]
+        for j in range(m):
+            flags[i, j] = _is_candidate(qx[j], qy[j], qz[j], rx[j], ry[j], rz[j], h2[j], row)
+    for j in range(m):
+        for i in range(n_isl):
+            if flags[i, j]:
+                t, p = _pierce_one(qx[j], qy[j], qz[j], rx[j], ry[j], rz[j], table[i], h,
+                                   part_beach, part_cliff, part_hill)
+                if t < best[j]:
+                    best[j] = t
+                    which[j] = i + 1
+                    part[j] = p
+
+
+@_jit
+def _pierce_all(q, r, table, h, part_beach, part_cliff, part_hill, best, which, part):
+    """Every ray (N, 3) against every island, block by block (:func:`_pierce_block`)."""
+    n = q.shape[0]
+    flags = np.empty((max(table.shape[0], 1), _BLOCK), np.bool_)
     qx, qy, qz = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
     rx, ry, rz = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
-    horiz = np.empty(_BLOCK)
+    h2 = np.empty(_BLOCK)
     for a in range(0, n, _BLOCK):
         m = min(n, a + _BLOCK) - a
         for j in range(m):
             qx[j], qy[j], qz[j] = q[a + j, 0], q[a + j, 1], q[a + j, 2]
             rx[j], ry[j], rz[j] = r[a + j, 0], r[a + j, 1], r[a + j, 2]
-        for j in range(m):
-            horiz[j] = math.sqrt(rx[j] * rx[j] + ry[j] * ry[j])
-        for i in range(n_isl):
-            X, Y, rho, top_h = table[i, 0], table[i, 1], table[i, 12], table[i, 13]
-            for j in range(m):
-                flags[i, j] = _is_candidate(qx[j], qy[j], qz[j], rx[j], ry[j], rz[j], horiz[j], X, Y, rho, top_h)
-        for j in range(m):
-            k = a + j
-            for i in range(n_isl):
-                if flags[i, j]:
-                    t, p = _pierce_one(q[k, 0], q[k, 1], q[k, 2], r[k, 0], r[k, 1], r[k, 2], table[i], h,
-                                       part_beach, part_cliff, part_hill)
-                    if t < best[k]:
-                        best[k] = t
-                        which[k] = i + 1
-                        part[k] = p
-
-
-@_jit
-def _lowest_upward_origin(q, r):
-    z0 = np.inf
-    for j in range(q.shape[0]):
-        if r[j, 2] >= 0.0 and q[j, 2] < z0:
-            z0 = q[j, 2]
-    return z0
+        _pierce_block(m, qx, qy, qz, rx, ry, rz, h2, flags, table, h, part_beach, part_cliff, part_hill,
+                      best[a:a + m], which[a:a + m], part[a:a + m])
 
 
 def pierce_islands(islands, eye_height: float, q, r):
     """:func:`sunset.vector.pierce.pierce_islands` compiled: (t, which, part) for rays (N, 3).
 
     One compiled pass over the rays (:func:`_pierce_all`): each ray is
-    tested against every island's bounding circle in island order and, where
+    tested against every island's bounding paraboloids in island order and, where
     it may hit, the three quadratics are solved and the nearest hit kept,
     exactly as the reference's island-by-island passes keep it.
     """
     q = np.ascontiguousarray(q, dtype=np.float64)
     r = np.ascontiguousarray(r, dtype=np.float64)
     n = len(q)
-    best = np.empty(n)
-    which = np.empty(n, np.int8)
-    part = np.empty(n, np.int8)
-    z0 = _lowest_upward_origin(q, r)
-    table = island_table(islands, eye_height, z0 if z0 < np.inf else 0.0)
-    best.fill(np.inf)
-    which.fill(-1)
-    part.fill(0)
+    best = np.full(n, np.inf)
+    which = np.full(n, -1, np.int8)
+    part = np.zeros(n, np.int8)
+    table = island_table(islands, eye_height)
     _pierce_all(q, r, table, float(eye_height), PART_BEACH, PART_CLIFF, PART_HILL, best, which, part)
     return best, which, part
-
 
 
 #: Columns of :func:`normal_table`.
@@ -292,66 +299,148 @@ def island_normals(islands, x, y, part, which) -> np.ndarray:
 
 
 @_jit
-def pierce_write(flat, q, r, bounces, table, normals, terms, h, part_beach, part_cliff, part_hill, sky_code,
-                 f_bounces, f_ray, f_surface, f_part, f_normal):
-    """Pierce the islands (:func:`_pierce_all`) and write each ray's final fields into the frame's pixels.
+def _finish_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, scratch, crest, amps, waves, coef,
+                  count, record, incidence, sea_rays_out, h2, flags, table, normals, terms, h, part_beach, part_cliff,
+                  part_hill, sky_code, best, which, part, f_bounces, f_ray, f_surface, f_part, f_normal):
+    """The rest of a block of sea rays: the crests, |R_z|, the islands, the frame's final fields.
 
-    ``flat`` are row-major pixel indices of the (H, W) frame fields (ascending); the
-    final normal is the island's (:func:`_island_normal` at the hit, the
-    point Q + tR), NaN where the ray ends in the sky. Returns the number of
-    rays that hit an island.
+    With ``second``, the crests' bounding tests (:func:`sunset.vector.crests_numba.crest_block`),
+    then the candidates' cylinders are pierced and the hits reflected again
+    off the true wave normal (recorded with ``record``); every ray's R_z is
+    folded up; :func:`_pierce_block` finds the islands; the final fields are
+    written at each ray's pixel, with the island's normal at the hit
+    (:func:`_island_normal` at Q + tR), NaN where the ray ends in the sky.
     """
-    n = q.shape[0]
-    best = np.full(n, np.inf)
-    which = np.full(n, sky_code, np.int8)
-    part = np.zeros(n, np.int8)
-    _pierce_all(q, r, table, h, part_beach, part_cliff, part_hill, best, which, part)
-    W = f_surface.shape[1]
-    n_hit = 0
-    yy = 0
-    row_start = 0       # flat is ascending: the row is found by stepping, not by a division
-    for j in range(n):
-        while flat[j] - row_start >= W:
-            row_start += W
-            yy += 1
-        xx = flat[j] - row_start
+    if second:
+        crest_block(m, qx, qy, qz, rx, ry, rz, crest, amps, psi, keep, scratch)
+    for j in range(m):
+        if not (second and keep[j]):
+            continue
+        t = crest_entry(qx[j], qy[j], qz[j], rx[j], ry[j], rz[j], psi[j], crest, amps)
+        if t < np.inf:
+            px = qx[j] + t * rx[j]
+            py = qy[j] + t * ry[j]
+            pz = qz[j] + t * rz[j]
+            mx, my, mz = sea_normal(px, py, waves, coef, count)
+            two = 2.0 * (rx[j] * mx + ry[j] * my + rz[j] * mz)
+            sx = rx[j] - two * mx
+            sy = ry[j] - two * my
+            sz = rz[j] - two * mz
+            if record:
+                ex = sx - rx[j]
+                ey = sy - ry[j]
+                ez = sz - rz[j]
+                incidence[ys[j], xs[j], 1] = 0.5 * math.sqrt(ex * ex + ey * ey + ez * ez)
+                sea_rays_out[ys[j], xs[j], 1, 0] = sx
+                sea_rays_out[ys[j], xs[j], 1, 1] = sy
+                sea_rays_out[ys[j], xs[j], 1, 2] = sz
+            qx[j], qy[j], qz[j] = px, py, pz
+            rx[j], ry[j], rz[j] = sx, sy, sz
+            bounces[j] = 2
+    for j in range(m):
+        rz[j] = abs(rz[j])
+        best[j] = np.inf
+        which[j] = sky_code
+        part[j] = 0
+    _pierce_block(m, qx, qy, qz, rx, ry, rz, h2, flags, table, h, part_beach, part_cliff, part_hill,
+                  best, which, part)
+    for j in range(m):
+        yy, xx = ys[j], xs[j]
         f_bounces[yy, xx] = bounces[j]
-        f_ray[yy, xx, 0] = r[j, 0]
-        f_ray[yy, xx, 1] = r[j, 1]
-        f_ray[yy, xx, 2] = r[j, 2]
+        f_ray[yy, xx, 0] = rx[j]
+        f_ray[yy, xx, 1] = ry[j]
+        f_ray[yy, xx, 2] = rz[j]
         f_surface[yy, xx] = which[j]
         f_part[yy, xx] = part[j]
         if which[j] > 0:
             t = best[j]
-            nx, ny, nz = _island_normal(q[j, 0] + t * r[j, 0], q[j, 1] + t * r[j, 1], part[j],
+            nx, ny, nz = _island_normal(qx[j] + t * rx[j], qy[j] + t * ry[j], part[j],
                                         normals[which[j] - 1], terms, part_beach, part_hill)
             f_normal[yy, xx, 0] = nx
             f_normal[yy, xx, 1] = ny
             f_normal[yy, xx, 2] = nz
-            n_hit += 1
         else:
             f_normal[yy, xx, 0] = np.nan
             f_normal[yy, xx, 1] = np.nan
             f_normal[yy, xx, 2] = np.nan
-    return n_hit
+
+
+@_jit
+def trace_strip(surface, point, direction, normal, sea_code, second, crest, amps, waves, coef, count,
+                record, incidence, sea_rays_out, table, normals, terms, h, part_beach, part_cliff, part_hill,
+                sky_code, f_bounces, f_ray, f_surface, f_part, f_normal):
+    """Every sea pixel's ray of a strip, in one pass over its pixels, block by block of rays.
+
+    Each sea pixel's ray is reflected (R = D − 2(D·N)N, float64 from the
+    float32 fields), recorded with ``record`` and, with ``second``, given
+    when :data:`_BLOCK` rays are gathered, :func:`_finish_block` does the
+    rest and writes the frame's final fields. No ray is written to memory
+    outside its block.
+    """
+    H, W = surface.shape
+    ys = np.empty(_BLOCK, np.int64)
+    xs = np.empty(_BLOCK, np.int64)
+    qx, qy, qz = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
+    rx, ry, rz = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
+    h2, best, psi = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
+    bounces = np.empty(_BLOCK, np.uint8)
+    which = np.empty(_BLOCK, np.int8)
+    part = np.empty(_BLOCK, np.int8)
+    keep = np.empty(_BLOCK, np.bool_)
+    scratch = np.empty((5, _BLOCK))
+    flags = np.empty((max(table.shape[0], 1), _BLOCK), np.bool_)
+    m = 0
+    for yy in range(H):
+        for xx in range(W):
+            if surface[yy, xx] != sea_code:
+                continue
+            dx = np.float64(direction[yy, xx, 0])
+            dy = np.float64(direction[yy, xx, 1])
+            dz = np.float64(direction[yy, xx, 2])
+            nx = np.float64(normal[yy, xx, 0])
+            ny = np.float64(normal[yy, xx, 1])
+            nz = np.float64(normal[yy, xx, 2])
+            dot = dx * nx + dy * ny + dz * nz
+            two = 2.0 * dot
+            ys[m] = yy
+            xs[m] = xx
+            qx[m] = np.float64(point[yy, xx, 0])
+            qy[m] = np.float64(point[yy, xx, 1])
+            qz[m] = np.float64(point[yy, xx, 2])
+            rx[m] = dx - two * nx
+            ry[m] = dy - two * ny
+            rz[m] = dz - two * nz
+            bounces[m] = 1
+            if record:
+                incidence[yy, xx, 0] = -dot
+                sea_rays_out[yy, xx, 0, 0] = rx[m]
+                sea_rays_out[yy, xx, 0, 1] = ry[m]
+                sea_rays_out[yy, xx, 0, 2] = rz[m]
+            m += 1
+            if m == _BLOCK:
+                _finish_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, scratch, crest, amps,
+                              waves, coef, count, record, incidence, sea_rays_out, h2, flags, table, normals, terms, h,
+                              part_beach, part_cliff, part_hill, sky_code, best, which, part,
+                              f_bounces, f_ray, f_surface, f_part, f_normal)
+                m = 0
+    if m:
+        _finish_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, scratch, crest, amps, waves,
+                      coef, count, record, incidence, sea_rays_out, h2, flags, table, normals, terms, h,
+                      part_beach, part_cliff, part_hill, sky_code, best, which, part,
+                      f_bounces, f_ray, f_surface, f_part, f_normal)
 
 
 _NO_RECORD = (np.zeros((1, 1, 2), np.float32), np.zeros((1, 1, 2, 3), np.float32))
 
 
 def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
-    """:func:`sunset.vector.reflect.trace_sea_rays` compiled: the same frame, in two passes over the strip.
+    """:func:`sunset.vector.reflect.trace_sea_rays` compiled: the same frame, in one pass over the strip.
 
-    :func:`sunset.vector.crests_numba.sea_rays` (reflect, pierce the crest,
-    reflect again, record, |R_z|), then :func:`pierce_write` (the islands, their
-    normals at the hits and the frame's final fields).
+    :func:`trace_strip`: reflect, pierce the crest, reflect again, record,
+    |R_z|, the islands, their normals at the hits and the frame's final
+    fields, block by block of rays.
     """
     h = float(scene.camera.eye_height)
-    n = int(np.count_nonzero(frame.surface == SEA))
-    flat = np.empty(n, np.intp)
-    q = np.empty((n, 3))
-    r = np.empty((n, 3))
-    bounces = np.empty(n, np.uint8)
     second = second_bounce_constants(scene.sea, frame.t) if reflections == 2 else None
     if second is None:
         second = (crest_constants_dummy(), np.zeros(1), np.zeros((0, 4)), np.zeros((0, 1)), np.zeros(0, np.int64))
@@ -360,16 +449,15 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
         do_second = True
     record = frame.incidence is not None
     inc, rays = (frame.incidence, frame.sea_rays) if record else _NO_RECORD
-    z0 = sea_rays(frame.surface, frame.point, frame.direction, frame.normal, SEA, do_second, *second, record, inc,
-                  rays, flat, q, r, bounces)
     islands = scene.islands if reflections >= 1 else ()
-    table = island_table(islands, h, z0 if z0 < np.inf else 0.0)
+    table = island_table(islands, h)
     normals, terms = normal_table(islands)
-    pierce_write(flat, q, r, bounces, table, normals, terms, h, PART_BEACH, PART_CLIFF, PART_HILL, SKY,
-                 frame.bounces, frame.ray, frame.final_surface, frame.final_part, frame.final_normal)
+    trace_strip(frame.surface, frame.point, frame.direction, frame.normal, SEA, do_second, *second, record, inc,
+                rays, table, normals, terms, h, PART_BEACH, PART_CLIFF, PART_HILL, SKY,
+                frame.bounces, frame.ray, frame.final_surface, frame.final_part, frame.final_normal)
     return frame
 
 
 def crest_constants_dummy():
     """Crest constants for a pass with one reflection (never read)."""
-    return (0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0)
+    return (0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0)

@@ -67,7 +67,7 @@ def traced(scene, t, mode, sea_bounces):
 
 @pytest.mark.parametrize("name", ["order 1", "order 2", "order 4", "default", "still"])
 @pytest.mark.parametrize("mode", [0, 1, 2])
-@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("threads", [1, 2, 3])
 def test_reflected_frames_are_numpys(name, mode, threads):
     scene = scene_with(name)
     for t in (0.0, 3.1):
@@ -146,3 +146,77 @@ def test_the_island_normals_are_numpys():
     # the phases matter
     assert not np.array_equal(pierce.island_normal(islands[0], x, y, np.full(n, PART_CLIFF, np.int8)),
                               pierce.island_normal(islands[-1], x, y, np.full(n, PART_CLIFF, np.int8)))
+
+
+
+def block_keep(train, t, q, r):
+    """ψ and the crest test of crests_numba.crest_block, block by block of 512 rays (a ragged last one)."""
+    crest, amps = crests_numba.crest_constants(train, t)
+    n = len(q)
+    psi, keep = np.empty(n), np.empty(n, bool)
+    cols = [np.ascontiguousarray(a) for a in (*q.T, *r.T)]
+    for a in range(0, n, 512):
+        m = min(n, a + 512) - a
+        p, k = np.empty(512), np.empty(512, bool)
+        crests_numba.crest_block(m, *(c[a:a + m] for c in cols), crest, amps, p, k, np.empty((5, 512)))
+        psi[a:a + m], keep[a:a + m] = p[:m], k[:m]
+    return psi, keep
+
+
+@pytest.mark.parametrize("name", ["order 1", "order 2", "order 4", "default"])
+def test_the_block_crest_test_is_numpys(name):
+    """crest_block: ψ is np.mod's bit for bit (where the quotient by 1/2π is wrong too) and the test the reference's."""
+    sea = seas()[name]
+    train = crests.largest_train(sea)
+    rng = np.random.default_rng(8)
+    n = 20000
+    q = np.column_stack([rng.uniform(-300, 300, n), rng.uniform(5, 3000, n), np.zeros(n)])
+    q[:, 2] = -2.0 + sea.elevation(q[:, 0], q[:, 1], 3.3)
+    r = rng.normal(size=(n, 3))
+    r[: n // 2, 2] = np.abs(r[: n // 2, 2]) * 0.1
+    r /= np.linalg.norm(r, axis=1, keepdims=True)
+    # origins whose phase is (next to) a multiple of 2π: the quotient rounds across an integer
+    l, m = train.wave_vector
+    k = np.arange(-2000, 2000) * 2.0 * np.pi
+    base = train.omega * 3.3 - train.phase
+    q[:4000, 0] = 0.0
+    q[:4000, 1] = (k + base) / m
+    q[4000:8000, 1] = np.nextafter(q[:4000, 1], np.inf)
+    q[4000:8000, 0] = 0.0
+    psi, keep = block_keep(train, 3.3, q, r)
+    theta = l * q[:, 0] + m * q[:, 1] - train.omega * 3.3 + train.phase
+    assert same_bits(psi, np.mod(theta, 2.0 * np.pi))
+    want = crests.crest_candidates(train, 3.3, q, r)
+    np.testing.assert_array_equal(keep, want)
+    assert 0 < want.sum() < n
+    # and crest_phase, ray by ray, agrees
+    crest, amps = crests_numba.crest_constants(train, 3.3)
+    one = [crests_numba.crest_phase(*q[i], *r[i], crest, amps) for i in range(0, n, 37)]
+    assert [b for b, _ in one] == list(want[::37]) and same_bits(np.array([p for _, p in one]), psi[::37])
+
+
+def test_the_island_test_is_numpys():
+    """The compiled island bounding test (reflect_numba._is_candidate over the table) is pierce.island_candidates."""
+    import numba
+
+    @numba.njit
+    def flags(q, r, table):
+        out = np.empty((table.shape[0], q.shape[0]), np.bool_)
+        for i in range(table.shape[0]):
+            for j in range(q.shape[0]):
+                h2 = r[j, 0] * r[j, 0] + r[j, 1] * r[j, 1]
+                out[i, j] = reflect_numba._is_candidate(q[j, 0], q[j, 1], q[j, 2], r[j, 0], r[j, 1], r[j, 2], h2,
+                                                        table[i])
+        return out
+
+    rng = np.random.default_rng(12)
+    isl = Scene.default().islands
+    n = 30000
+    q = np.column_stack([rng.uniform(-600, 800, n), rng.uniform(0, 2500, n), rng.uniform(-4, 0, n)])
+    aim = np.array([[i.x, i.y, 20.0] for i in isl])[rng.integers(0, len(isl), n)] + rng.normal(0, 150, (n, 3))
+    r = (aim - q) / np.linalg.norm(aim - q, axis=1, keepdims=True)
+    got = flags(q, r, reflect_numba.island_table(isl, 2.0))
+    for i, island in enumerate(isl):
+        want = pierce.island_candidates(island, 2.0, q, r)
+        np.testing.assert_array_equal(got[i], want)
+        assert 0 < want.sum() < n
