@@ -15,7 +15,7 @@ from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
 
-from ..constants import HALO_FACTOR, PART_BEACH, PART_CLIFF, PART_HILL, TRACK_DITHER
+from ..constants import HALO_FACTOR, PART_BEACH, PART_CLIFF, PART_HILL, SEA, TRACK_DITHER
 from ..errors import SunsetError
 from ..kernels import jit as _jit
 from .codes import dither as _dither, track_elevation_max
@@ -72,14 +72,16 @@ def _stream(seed: int, skip: int) -> np.ndarray:
 
 
 @_jit
-def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, su, sv, draw, U, V, W, part_codes, island_start,
-                   island_size, sky_start, sky_size, track_start, track_size, halo_start, halo_size, dither, sin_d,
-                   sin_halo, e_max):
-    """The codes of :func:`sunset.tape.codes.encode_pixels`, pixel by pixel; (-1 or the first unknown island part,
-    the pixels left to the caller: posts and clouds).
+def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, su, sv, draw, cycle, still, surface, U, V, W,
+                   part_codes, island_start, island_size, sky_start, sky_size, track_start, track_size, halo_start, halo_size,
+                   dither, sin_d, sin_halo, e_max):
+    """The codes of :func:`sunset.tape.codes.encode_pixels`, pixel by pixel; (whether an island part was unknown, the
+    first such part, the pixels left to the caller: posts and clouds).
 
     With ``draw`` the dither u, v is drawn pixel by pixel from the PCG64 streams ``su``, ``sv`` (state high,
-    low, increment high, low; :func:`_stream`) instead of read from the arrays ``u``, ``v``.
+    low, increment high, low; :func:`_stream`) instead of read from the arrays ``u``, ``v``. With ``cycle``: a
+    cycle's frame (:func:`sunset.tape.still.encode_sea_rows`), whose pixels off the sea (``surface``) take the
+    ``still`` codes and whose final fields are read on the sea alone.
     """
     H, Wd = surf.shape
     uh, ul, uih, uil = su[0], su[1], su[2], su[3]
@@ -93,6 +95,9 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, su, sv, draw, 
             else:
                 uu = u[y, x]
                 vv = v[y, x]
+            if cycle and surface[y, x] != SEA:
+                codes[y, x] = still[y, x]
+                continue
             s = surf[y, x]
             if s >= 1:
                 # ρ̂(N) (sunset.tape.codes.rho_hat) and the island offset (sunset.tape.codes.island_offsets)
@@ -116,7 +121,7 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, su, sv, draw, 
                     if part_codes[i] == p:
                         j = i
                 if j < 0:
-                    return p, others
+                    return True, p, others
                 size = island_size[j]
                 off = np.int64(np.floor((rh + 1.0) * (size / 4.0) + uu)) % size
                 codes[y, x] = island_start[j] + off
@@ -137,11 +142,12 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, su, sv, draw, 
                 codes[y, x] = code
             else:
                 others += 1
-    return -1, others
+    return False, 0, others
 
 
 _NO_STREAM = np.zeros(4, np.uint64)
 _NO_DITHER = np.zeros((1, 1))
+_NO_STILL = np.zeros((1, 1), np.uint8), np.zeros((1, 1), np.int8)
 
 
 @functools.lru_cache(maxsize=64)
@@ -156,19 +162,20 @@ def _constants(sun, cmap) -> tuple:
             float(math.sin(sun.delta)), float(math.sin(HALO_FACTOR * sun.delta)), float(track_elevation_max(sun)))
 
 
-def _encode(codes, frame, sun, cmap, u=None, v=None, streams=None):
-    """Run :func:`_encode_pixels` on a frame's rows: with the dither arrays ``u``, ``v`` or the two ``streams``.
+def _encode(codes, frame, sun, cmap, u=None, v=None, streams=None, still=None):
+    """Run :func:`_encode_pixels` on a frame's rows: with the dither arrays ``u``, ``v`` or the two ``streams``;
+    ``still``: (the still codes, the frame's direct surface) of a cycle's frame.
 
     Raises for an unknown island part; returns the pixels left to the caller (posts, clouds).
     """
     draw = streams is not None
     su, sv = streams if draw else (_NO_STREAM, _NO_STREAM)
-    bad, others = _encode_pixels(
+    failed, bad, others = _encode_pixels(
         codes, np.ascontiguousarray(frame.final_surface), np.ascontiguousarray(frame.final_part),
         np.ascontiguousarray(frame.final_normal), np.ascontiguousarray(frame.ray),
         np.ascontiguousarray(frame.bounces), _NO_DITHER if draw else u, _NO_DITHER if draw else v, su, sv, draw,
-        *_constants(sun, cmap))
-    if bad >= 0:
+        still is not None, *[np.ascontiguousarray(a) for a in (still or _NO_STILL)], *_constants(sun, cmap))
+    if failed:
         raise SunsetError(f"frame.final_part must be 1 (beach), 2 (cliff) or 3 (hill) on islands, got {bad}")
     return int(others)
 
@@ -186,3 +193,11 @@ def encode_rows(codes, frame, seed: int, r0: int, H: int, sun, cmap):
     h, Wd = codes.shape
     others = _encode(codes, frame, sun, cmap, streams=(_stream(seed, r0 * Wd), _stream(seed, (H + r0) * Wd)))
     return _dither(seed, r0 * Wd, (h, Wd)) if others else None
+
+
+def encode_sea_rows(codes, frame, still, seed: int, r0: int, H: int, sun, cmap) -> None:
+    """:func:`sunset.tape.still.encode_sea_rows` in the compiled pass of :func:`encode_rows`: the still codes off the
+    sea, the sea pixels' final fields coded, the dither drawn inside the loop."""
+    Wd = codes.shape[1]
+    _encode(codes, frame, sun, cmap, streams=(_stream(seed, r0 * Wd), _stream(seed, (H + r0) * Wd)),
+            still=(still, frame.surface))

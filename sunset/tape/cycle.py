@@ -13,9 +13,9 @@ import numpy as np
 from ..errors import require_int_range
 from ..kernels import keep_freed_memory, use_threads
 from ..model.scene import Scene
-from ..vector.direct import island_pass
 from ..vector.render import render
 from .codes import encode
+from .still import CyclePass, code_sea, cycle_pass
 
 __all__ = ["code_frame", "code_frames", "frame_workers"]
 
@@ -23,10 +23,16 @@ __all__ = ["code_frame", "code_frames", "frame_workers"]
 def code_frame(scene: Scene, t: float, reflections: int = 2, seed: int = 0, islands=None):
     """The vector stage for one frame: :func:`render` then :func:`sunset.tape.codes.encode` (uint8 (H, W)).
 
-    ``islands``: the scene's island pass (:func:`sunset.vector.direct.island_pass`), when it is shared by
-    many frames.
+    ``islands``: what many frames share, when they do: the scene's island
+    pass (:func:`sunset.vector.direct.island_pass`), or the still part of a
+    wave cycle (:func:`sunset.tape.still.cycle_pass`), with which only the
+    sea's pixels are traced and coded (:func:`sunset.tape.still.code_sea`;
+    the same bytes).
     """
-
+    if isinstance(islands, CyclePass):
+        if scene.clouds is None and not scene.posts:
+            return code_sea(scene, float(t), reflections, seed, islands)
+        islands = islands.islands
     return encode(scene, render(scene, float(t), reflections, islands=islands, sea_bounces=False), seed=seed)
 
 
@@ -176,7 +182,7 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
         import mmap
 
         out = np.frombuffer(mmap.mmap(-1, max(out.nbytes, 1)), np.uint8, count=out.size).reshape(out.shape)
-    islands = island_pass(scene)
+    islands = cycle_pass(scene, seed)
     put(0, code_frame(scene, times[0], reflections, seed, islands=islands))
     rest = [(i, (scene, t, reflections, seed)) for i, t in enumerate(times[1:], start=1)]
     if n <= 1 or not rest:

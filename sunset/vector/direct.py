@@ -25,7 +25,7 @@ from .budget import check_work
 from .heightfield import sampling, sea_columns, sea_gradient_on_scanlines
 from .island_samples import islands_scan, probe_refinement
 
-__all__ = ["trace_direct", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals",
+__all__ = ["trace_direct", "trace_sea", "islands_alone", "sea_geometry", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals",
            "put_sea_normals", "put_island_normals"]
 
 _F32 = np.float32
@@ -140,8 +140,25 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     strictly nearer.
     """
     require_finite("t", t)
-    check_work(scene)
     t = float(t)
+    seconds = {"sea": 0.0, "islands": 0.0, "assemble": 0.0}
+    best_u, best_surf, s_all, zeta, counts = _depth_buffer(scene, t, refine_islands, islands, seconds)
+    tick = time.perf_counter()
+    frame = _assemble(scene, t, best_u, best_surf, s_all, zeta)
+    seconds["assemble"] = time.perf_counter() - tick
+    if info is not None:
+        info.update(counts, seconds=seconds)
+    return frame
+
+
+def _depth_buffer(scene, t: float, refine_islands: bool, islands: IslandPass | None, seconds: dict):
+    """Every scan line's depth buffer at time ``t``: the islands' pass (computed, or a copy of ``islands``), the sea
+    merged in.
+
+    Returns (best_u, best_surf (W, H), s_all (W,), zeta (H,) bottom up, the counts of :func:`trace_direct`'s
+    ``info``); adds the seconds spent on the islands and the sea to ``seconds``.
+    """
+    check_work(scene)
     cam = scene.camera
     W, H, h = cam.width, cam.height, cam.eye_height
     d = scene.sea.max_elevation
@@ -151,7 +168,6 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     s_all = cam.s_centres()
     zeta = zeta0 + dz * np.arange(H, dtype=np.float64)  # bottom up
     u_sea_lattice = samp.u()
-    seconds = {"sea": 0.0, "islands": 0.0, "assemble": 0.0}
     clock = time.perf_counter
     tick = clock()
     if islands is None:
@@ -163,7 +179,7 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
                               "camera, islands or sea height")
         best_u, best_surf = islands.u.copy(), islands.code.copy()
     tock = clock()
-    seconds["islands"] = tock - tick
+    seconds["islands"] += tock - tick
     tick = tock
 
     def sea(c0: int, c1: int) -> int:
@@ -175,15 +191,76 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     tail = 0
     if samp.n:
         tail = sum(run_strips(sea, strips(W, _chunk_columns(samp, W))))
-    tock = clock()
-    seconds["sea"] = tock - tick
-    tick = tock
-    frame = _assemble(scene, t, best_u, best_surf, s_all, zeta)
-    seconds["assemble"] = clock() - tick
-    if info is not None:
-        info.update({"sea_samples": samp.n, "island_samples": islands.samples, "probe": islands.probe,
-                     "tail_pixels": tail}, seconds=seconds)
-    return frame
+    seconds["sea"] += clock() - tick
+    counts = {"sea_samples": samp.n, "island_samples": islands.samples, "probe": islands.probe, "tail_pixels": tail}
+    return best_u, best_surf, s_all, zeta, counts
+
+
+def trace_sea(scene, t: float, islands: IslandPass, direction) -> Frame:
+    """The direct rays of a frame of a wave cycle's 8-bit tape, only as far as its sea pixels' reflections need them.
+
+    The depth buffer as :func:`trace_direct` makes it (the islands' pass
+    ``islands``, the sea merged in); then ``surface`` everywhere and, on the
+    sea pixels alone, ``point`` and ``normal`` (:func:`sea_geometry`), the
+    same bits as :func:`trace_direct`'s there. ``direction`` (H, W, 3)
+    float32 is :func:`trace_direct`'s, which does not change with time
+    (:func:`islands_alone`): it is the frame's, not copied. ``point`` and
+    ``normal`` are left unset off the sea, and ``part`` and ``distance`` are
+    None: the frame is for :func:`sunset.vector.reflect.trace_reflections`
+    and the codes of the sea pixels (:mod:`sunset.tape.still`), not for reading.
+    """
+    require_finite("t", t)
+    t = float(t)
+    best_u, best_surf, s_all, zeta, _ = _depth_buffer(scene, t, True, islands, {"sea": 0.0, "islands": 0.0})
+    W, H = best_u.shape
+    surface = np.empty((H, W), np.int8)
+    point = np.empty((H, W, 3), _F32)
+    normal = np.empty((H, W, 3), _F32)
+
+    def rows(r0: int, r1: int) -> None:
+        k0, k1 = H - r1, H - r0      # the rows' pixels, counted from the bottom
+        sea_geometry(best_u[:, k0:k1], best_surf[:, k0:k1], s_all, zeta[k0:k1], scene.sea, t, surface[r0:r1],
+                     point[r0:r1], normal[r0:r1])
+
+    run_strips(rows, row_strips(H, W))
+    return Frame(t=t, reflections=0, direction=direction, surface=surface, part=None, distance=None, point=point,
+                 normal=normal)
+
+
+def islands_alone(scene, islands: IslandPass) -> Frame:
+    """The direct frame of the islands and the sky alone (no sea): what every frame of a cycle shows where the sea
+    does not reach. :func:`trace_direct`'s geometry of the island pass ``islands``, with nothing merged in."""
+    if islands.key != island_key(scene, True):
+        raise SunsetError("islands: this island pass was computed for another camera, islands or sea height")
+    cam = scene.camera
+    dz = cam.pixel_pitch[1]
+    zeta = cam.zy_min + 0.5 * dz + dz * np.arange(cam.height, dtype=np.float64)
+    return _assemble(scene, 0.0, islands.u, islands.code, cam.s_centres(), zeta)
+
+
+@twin("sunset.vector.direct_numba", numpy_trig=True)
+def sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, normal) -> None:
+    """The direct fields of the sea pixels alone, from the depth buffer: :func:`assemble_geometry` and
+    :func:`put_sea_normals`, skipping everything else.
+
+    ``best_u``, ``best_surf`` (W, K) hold K pixels of every scan line, from
+    the bottom, at heights ``zeta`` (K,). Fills ``surface`` (K, W) int8, rows
+    from the top, and, where it is the sea, ``point`` and ``normal`` (K, W, 3)
+    float32 with the same bits as :func:`_assemble` (elsewhere they are not written).
+    """
+    surface[...] = best_surf[:, ::-1].T
+    idx = np.flatnonzero(surface == SEA)
+    if not len(idx):
+        return
+    W = surface.shape[1]
+    y = 1.0 / best_u[:, ::-1].T.reshape(-1)[idx]
+    s = s_all[idx % W]
+    z = zeta[::-1][idx // W]
+    flat = point.reshape(-1, 3)
+    flat[idx, 0] = s * y
+    flat[idx, 1] = y
+    flat[idx, 2] = z * y
+    put_sea_normals(sea, t, normal, idx, s, y)
 
 
 def _assemble(scene, t, best_u, best_surf, s_all, zeta) -> Frame:

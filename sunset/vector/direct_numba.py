@@ -16,6 +16,7 @@ import numpy as np
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..kernels import jit as _jit
 from ..trig_numba import cos32, sin32
+from .slopes_numba import BLOCK, _scratch, _slopes_block, slope_terms
 
 
 @_jit
@@ -185,3 +186,73 @@ def put_island_normals(island, normal, part, idx, s, y) -> None:
     """
     c, terms = _island_constants(island)
     _island_normals(c, terms, normal.reshape(-1, 3), part.reshape(-1), idx, s, y, PART_BEACH, PART_CLIFF, PART_HILL)
+
+
+#: Rows and columns of a tile of :func:`sea_geometry`: the depth buffer is read by scan lines (columns) and the
+#: frame written by rows, so both go tile by tile, each tile's pieces of both in the cache.
+TILE_ROWS, TILE_COLUMNS = 32, 64
+
+
+@_jit
+def _sea_normals(n, bflat, bs32, by32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy, normal):
+    """The unit normals of the first ``n`` gathered sea pixels into their rows ``bflat`` of ``normal`` (…, 3)."""
+    _slopes_block(bs32[:n], by32[:n], l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy)
+    one = np.float32(1.0)
+    for i in range(n):                       # vectorised: z̄ into th, no scatter in this loop
+        gx = fx[i]
+        gy = fy[i]
+        th[i] = one / np.sqrt(gx * gx + gy * gy + one)
+    for i in range(n):
+        zb = th[i]
+        at = bflat[i]
+        normal[at, 0] = -zb * fx[i]
+        normal[at, 1] = -zb * fy[i]
+        normal[at, 2] = zb
+
+
+@_jit
+def _sea_geometry(best_u, best_surf, s_all, zeta, sea_code, surface, point, normal, l, m, c, lx, my, q, nq, block,
+                  tile_rows, tile_columns):
+    W, H = best_u.shape
+    bflat = np.empty(block, np.intp)
+    bs32 = np.empty(block, np.float32)
+    by32 = np.empty(block, np.float32)
+    th, sn, cs, acc, fx, fy = _scratch(block)
+    n = 0
+    for r0 in range(0, H, tile_rows):
+        r1 = min(H, r0 + tile_rows)
+        for c0 in range(0, W, tile_columns):
+            c1 = min(W, c0 + tile_columns)
+            for col in range(c0, c1):
+                s = s_all[col]
+                for row in range(r0, r1):
+                    k = H - 1 - row
+                    sc = best_surf[col, k]
+                    surface[row, col] = sc
+                    if sc == sea_code:
+                        yv = 1.0 / best_u[col, k]
+                        point[row, col, 0] = s * yv
+                        point[row, col, 1] = yv
+                        point[row, col, 2] = zeta[k] * yv
+                        # gathered for the slopes, which run over a block at a time
+                        bflat[n] = row * W + col
+                        bs32[n] = np.float32(s)
+                        by32[n] = np.float32(yv)
+                        n += 1
+                        if n == block:
+                            _sea_normals(n, bflat, bs32, by32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy,
+                                         normal)
+                            n = 0
+    if n:
+        _sea_normals(n, bflat, bs32, by32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy, normal)
+
+
+def sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, normal) -> None:
+    """:func:`sunset.vector.direct.sea_geometry` in one compiled pass, tile by tile.
+
+    The points as :func:`assemble`, the normals as
+    :func:`sunset.vector.slopes_numba.put_sea_normals` (the slopes over
+    blocks of the tile's sea pixels, gathered as they are met), the same bits.
+    """
+    _sea_geometry(best_u, best_surf, np.ascontiguousarray(s_all, np.float64), np.ascontiguousarray(zeta, np.float64),
+                  SEA, surface, point, normal.reshape(-1, 3), *slope_terms(sea, t), BLOCK, TILE_ROWS, TILE_COLUMNS)

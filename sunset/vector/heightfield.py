@@ -53,6 +53,7 @@ included, and scan-converts it at once.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -328,8 +329,18 @@ def sea_profile(sea, s, u, h: float, t: float = 0.0):
 
 
 def _chebyshev_power(amps) -> np.ndarray:
-    """p_0 … p_N with Σ_n a_n T_n(x) = Σ_j p_j x^j (T_n the Chebyshev polynomials, cos nθ = T_n(cos θ))."""
-    return np.polynomial.chebyshev.cheb2poly(np.concatenate([[0.0], np.asarray(amps, dtype=float)]))
+    """p_0 … p_N with Σ_n a_n T_n(x) = Σ_j p_j x^j (T_n the Chebyshev polynomials, cos nθ = T_n(cos θ)); read-only.
+
+    Kept for the last few amplitude lists (by their bytes): every strip of every frame asks for the same.
+    """
+    return _chebyshev_power_of(np.asarray(amps, dtype=float).tobytes())
+
+
+@functools.lru_cache(maxsize=64)
+def _chebyshev_power_of(amps: bytes) -> np.ndarray:
+    p = np.polynomial.chebyshev.cheb2poly(np.concatenate([[0.0], np.frombuffer(amps, dtype=float)]))
+    p.flags.writeable = False
+    return p
 
 
 @twin("sunset.vector.slopes_numba", numpy_trig=True)
