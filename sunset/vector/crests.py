@@ -20,7 +20,7 @@ from ..model.stokes import series_crest_curvature
 from ..model.waves import Sea, WaveTrain
 from .pierce import first_entry, gather, quadratic_interval, reflect
 
-__all__ = ["largest_train", "crest_curvature", "CrestCylinder", "harmonic_sum", "crest_lift", "crest_rise", "crest_candidates",
+__all__ = ["largest_train", "crest_curvature", "CrestCylinder", "harmonic_sum", "crest_rise", "crest_candidates",
            "crest_cylinder", "cylinder_coefficients", "secondary_reflections"]
 
 
@@ -97,15 +97,6 @@ def _crest_ahead(train: WaveTrain, t: float, q, r):
     rate = l * r[..., 0] + m * r[..., 1]
     psi = np.mod(theta, 2.0 * math.pi)
     return psi, rate, -_ahead(psi, rate) / k
-
-
-def crest_lift(train: WaveTrain) -> float:
-    """A bound on how far a crest cylinder's top stands above its ray's origin, metres.
-
-    top − Q_z = Σ a_n − Σ a_n cos nθ(Q) <= 2 Σ a_n (every a_n >= 0), with a
-    little to spare for rounding.
-    """
-    return 2.0 * float(np.sum(train.harmonic_amplitudes())) * (1.0 + 1e-6) + 1e-9
 
 
 #: How far the crest's bounding test reaches beyond its bound, relative (far beyond rounding).

@@ -52,7 +52,6 @@ def island_rays(rng, island, n):
     m = g.stop - g.start
     px = island.x + rng.normal(0, 60, m)
     py = island.y + rng.normal(0, 60, m)
-    part = np.full(m, 2, np.int8)
     z = np.maximum(island.beach.value(px - island.x, py - island.y),
                    np.minimum(island.cliff.value(px - island.x, py - island.y),
                               island.cliff_top + island.hill_factor * (island.cliff.value(px - island.x, py - island.y)
@@ -61,7 +60,6 @@ def island_rays(rng, island, n):
     beach = island.beach.value(px - island.x, py - island.y) >= z - 1e-12
     bx, by = island.beach.gradient(px - island.x, py - island.y)
     gx, gy = np.where(beach, bx, gx), np.where(beach, by, gy)
-    del part
     nrm = unit(np.column_stack([-gx, -gy, np.ones(m)]))
     tan = unit(np.cross(nrm, rng.normal(size=(m, 3))))
     tan[:, 2] += rng.choice([-1e-9, 0.0, 1e-9], m)
