@@ -173,22 +173,32 @@ def _make_all(names, out: Path, scene, log=print, **kw) -> list[Path]:
     except OSError as exc:
         raise SunsetError(f"{out}: cannot write figures there ({exc.strerror or exc})") from None
     from . import shared
-    from .lanes import SideLane, split
+    from .lanes import Queue, SideLane, plan
 
-    here, side = split(names, kw.get("workers"))
+    units, two = plan(names, kw.get("workers"))
     lane = None
     try:
         made: dict[str, list[Path]] = {}
-        with shared.sharing():                 # frames, codes and lights computed once (sunset.figures.shared)
-            if side:                           # the film (and two more) beside the rest (sunset.figures.lanes)
-                lane = SideLane(side, lambda n: make_figure(n, stage, scene, reuse_from=out, **kw)).start()
-            for name in here:
+
+        def make_here(unit):
+            for name in unit:
                 start = time.perf_counter()
                 made[name] = make_figure(name, stage, scene, reuse_from=out, **kw)
                 _logged(log, name, made[name], out, time.perf_counter() - start)
-            for name, files, seconds in (lane.results() if lane else []):
-                made[name] = [Path(f) for f in files]
-                _logged(log, name, made[name], out, seconds)
+
+        with shared.sharing():                         # frames, codes and lights computed once (sunset.figures.shared)
+            if two:                                    # two processes, one queue of units (sunset.figures.lanes)
+                queue = Queue(len(units))
+                lane = SideLane(units, queue, lambda n: make_figure(n, stage, scene, reuse_from=out, **kw)).start()
+                k = 1
+                while k is not None:
+                    make_here(units[k])
+                    k = None if lane.finished() else queue.take()     # finished: nothing left, or it failed
+                for name, files, seconds in lane.results():
+                    made[name] = [Path(f) for f in files]
+                    _logged(log, name, made[name], out, seconds)
+            else:
+                make_here(names)
         written = []
         for name in names:
             written += [f for f in made[name] if f not in written]

@@ -1,19 +1,25 @@
-"""Both cores for one ``sunset figures`` run: the film in a second process beside the other figures.
+"""Both cores for one ``sunset figures`` run: two processes taking the figures from one queue.
 
-The film is the longest figure (its wave cycle, then 192 exposures and the
-encoders), and it shares nothing with the others; nor do the ripples and the
-direct-ray diagnostic, which go with it to even the two lanes out (measured:
-the film about 26 s, the others together about 36 s, on the loaded 2-core
-machine). With two or more workers (:func:`sunset.tape.cycle.frame_workers`)
-and other figures to make, they are made by a process forked at the start of
-the run, into the same hidden folder, while this process makes the others; the
-run then waits for it. The sky's spectral data (colour-science's tables, which
-both lanes use) is loaded before the fork, once. The
-files are made by the same functions either way, so they are the same bytes;
-the run stays all or nothing (:func:`sunset.figures._make_all` lands the
-files only when both lanes are done, and an error in either lane, or Ctrl-C,
-lands nothing). Where processes cannot be forked safely (no ``fork``, or
-Python 3.12+ with threads running) the run keeps one lane.
+The figures are cut into *units* (:data:`UNITS`): a figure alone, or the
+figures that draw the same frame (:mod:`sunset.figures.shared`: Figure 6's
+frame is also behind ``fig6-rgb.png`` and ``quantisation.png``, and Figure 7
+re-exposes its tape), so that nothing is computed twice. With two or more
+workers (:func:`sunset.tape.cycle.frame_workers`) and two or more units to
+make, a second process is forked at the start of the run; it makes the first
+unit (the film, the longest: its wave cycle, 192 exposures and the encoders)
+while this process makes the second, and then each process takes the next
+unit not yet taken, in :data:`UNITS`' order (longest first), until none is
+left. The two lanes so end within about one small figure of each other,
+however fast each figure has become, where a fixed split has to be re-measured
+whenever one of them changes. Both processes write into the same hidden
+folder. The files are made by the same functions either way, so they are the
+same bytes (which process made what changes nothing); the run stays all or
+nothing (:func:`sunset.figures._make_all` lands the files only when both lanes
+are done, and an error in either lane, or Ctrl-C, lands nothing; a lane that
+sees the other has failed takes no more units). The sky's spectral data
+(colour-science's tables, which both lanes use) is loaded before the fork,
+once. Where processes cannot be forked safely (no ``fork``, or Python 3.12+
+with threads running) the run keeps one lane.
 """
 
 from __future__ import annotations
@@ -23,10 +29,14 @@ import time
 
 from ..errors import SunsetError
 
-__all__ = ["SIDE", "split", "SideLane"]
+__all__ = ["UNITS", "plan", "Queue", "SideLane"]
 
-#: The figures the second process makes, in this order.
-SIDE = ("film", "ripples", "diagnostic")
+#: The units the lanes take up, in this order: longest first (CPU seconds of each on the
+#: 2-core machine, 2026-12-02: film 13 with the colour tables then, 6-7-rgb-quantisation 7,
+#: ripples 3, clouds 2, 4 and reflections 1, the others under 1). A unit's figures are made
+#: by one process, in registry order.
+UNITS = (("film",), ("6", "7", "rgb", "quantisation"), ("ripples",), ("clouds",), ("4",), ("reflections",),
+         ("3",), ("diagnostic",), ("1",), ("2",), ("5",))
 
 
 def _can_fork() -> bool:
@@ -38,25 +48,50 @@ def _can_fork() -> bool:
     return sys.version_info < (3, 12) or threading.active_count() == 1
 
 
-def split(names: list[str], workers: int | None) -> tuple[list[str], list[str]]:
-    """(figures made here, figures made by the second process); the second list is empty for one lane."""
+def plan(names: list[str], workers: int | None) -> tuple[list[list[str]], bool]:
+    """(the units that hold ``names``, in the order they are taken up; whether two lanes make them).
+
+    Each unit keeps only the asked figures of :data:`UNITS`' unit, in ``names``' order.
+    """
     from ..tape.cycle import frame_workers
 
-    side = [n for n in names if n in SIDE]
-    here = [n for n in names if n not in SIDE]
-    if not here:
-        here, side = side[1:], side[:1]
-    if not side or not here or frame_workers(workers, 2) < 2 or not _can_fork():
-        return list(names), []
-    return here, side
+    units = [[n for n in names if n in unit] for unit in UNITS]
+    units = [u for u in units if u]
+    two = len(units) > 1 and frame_workers(workers, 2) >= 2 and _can_fork()
+    return units, two
+
+
+class Queue:
+    """The next unit to take, shared by the two processes (a counter in shared memory, under its lock).
+
+    Units 0 and 1 are given out at the start (the second process makes unit 0, this one unit 1);
+    :meth:`take` hands out the others, each once.
+    """
+
+    def __init__(self, count: int):
+        import multiprocessing
+
+        self.count = count
+        self._next = multiprocessing.get_context("fork").Value("i", min(2, count))
+
+    def take(self) -> int | None:
+        """The next unit's index, or None when every unit has been taken."""
+        with self._next.get_lock():
+            k = self._next.value
+            if k >= self.count:
+                return None
+            self._next.value = k + 1
+            return k
 
 
 class SideLane:
     """The second process: started with :meth:`start`, awaited with :meth:`results`, stopped with :meth:`stop`."""
 
-    def __init__(self, names, make):
-        """``make(name)`` makes one figure and returns the files it wrote."""
-        self.names = list(names)
+    def __init__(self, units, queue: Queue, make):
+        """``make(name)`` makes one figure and returns the files it wrote; the process makes ``units[0]``
+        and then what it takes from ``queue``."""
+        self.units = [list(u) for u in units]
+        self.queue = queue
         self.make = make
         self.proc = None
         self.conn = None
@@ -84,17 +119,26 @@ class SideLane:
 
         try:
             done = []
-            for name in self.names:
-                start = time.perf_counter()
-                files = self.make(name)
-                done.append((name, [str(f) for f in files], time.perf_counter() - start))
+            k = 0
+            while k is not None:
+                for name in self.units[k]:
+                    start = time.perf_counter()
+                    files = self.make(name)
+                    done.append((name, [str(f) for f in files], time.perf_counter() - start))
+                k = self.queue.take()
             conn.send(("ok", done))
         except SunsetError as exc:
             conn.send(("error", str(exc)))
+        except KeyboardInterrupt:                        # a stop (Ctrl-C reaches both processes): a stop here too
+            conn.send(("stop", ""))
         except BaseException as exc:                     # a bug, or a stop: reported by the parent
             conn.send(("crash", f"{type(exc).__name__}: {exc}\n{traceback.format_exc()}"))
         finally:
             conn.close()
+
+    def finished(self) -> bool:
+        """Whether the second process has sent its word (it took its last unit, or it failed)."""
+        return self.conn.poll()
 
     def results(self) -> list[tuple[str, list[str], float]]:
         """Wait for the second process: (name, files, seconds) of each of its figures; its error raised here."""
@@ -102,13 +146,16 @@ class SideLane:
             kind, payload = self.conn.recv()
         except EOFError:
             self.proc.join()
-            raise SunsetError(f"figures {', '.join(self.names)}: the process making them ended without a word "
+            names = ", ".join(n for u in self.units for n in u)
+            raise SunsetError(f"figures {names}: the process making them ended without a word "
                               f"(exit status {self.proc.exitcode})") from None
         self.proc.join()
         if kind == "error":
             raise SunsetError(payload)
+        if kind == "stop":
+            raise KeyboardInterrupt
         if kind == "crash":
-            raise RuntimeError(f"figures {', '.join(self.names)} failed in the second process: {payload}")
+            raise RuntimeError(f"the figures' second process failed: {payload}")
         return payload
 
     def stop(self) -> None:

@@ -32,7 +32,8 @@ def test_figures_made_together_are_the_bytes_of_figures_made_alone(tmp_path, mon
 
     monkeypatch.setattr(vector_render, "render", counted)
     monkeypatch.setattr(cycle, "render", counted)                # code_frame's
-    make_figures(together, only="6,rgb,quantisation,clouds", scene=SMALL, progress=False, log=lambda *_: None)
+    make_figures(together, only="6,rgb,quantisation,clouds", scene=SMALL, progress=False, log=lambda *_: None,
+                 workers=1)                                   # one process: its renders are counted here
     # Figure 6's codes, the 2x2 RGB frame, the traced frame of the 8-bit test, the cloudy frame: 4 traced
     assert len(renders) == 4
     for name in ("6", "rgb", "quantisation", "clouds"):
