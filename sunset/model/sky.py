@@ -33,12 +33,14 @@ from ..constants import (AEROSOL_ALBEDO, AEROSOL_ANGSTROM_ALPHA, AEROSOL_ANGSTRO
                          OZONE_COLUMN_DU, OZONE_CROSS_SECTION, OZONE_CROSS_SECTION_NM, OZONE_HALF_WIDTH,
                          OZONE_LAYER_ALTITUDE, OZONE_PEAK_ALTITUDE, RAYLEIGH_SCALE_HEIGHT, SUN_TEMPERATURE,
                          WATER_REFRACTIVE_INDEX)
+from .. import kernels
+from ..kernels import twin
 from .sun import Sun
 
 __all__ = [
     "spectral_data", "kasten_young_air_mass", "slant_columns", "sky_radiance", "sun_transmittance", "sun_radiance",
     "visible_fraction", "ozone_air_mass", "island_lighting", "direct_irradiance", "fresnel_reflectance",
-    "irradiance", "sky_dome", "island_normals", "elevation",
+    "irradiance", "irradiance_weights", "sky_dome", "dome_directions", "island_normals", "elevation",
 ]
 
 
@@ -194,10 +196,36 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
         Spectral radiance in units of the top-of-atmosphere solar irradiance
         spectrum (``spectral_data().sun``) per steradian.
     """
-    sp = spectral_data()
     v = np.asarray(directions, dtype=float).reshape(-1, 3)
     p = np.asarray(sun_dir, dtype=float)
     mu_v = np.clip(v[:, 2], 0.0, 1.0)
+    cos_g = np.clip(v @ p, -1.0, 1.0)                   # (K,)
+    if columns is None:
+        return single_scattering(mu_v, cos_g, float(p[2]), n_view, n_sun)
+    return single_scattering.reference(mu_v, cos_g, float(p[2]), n_view, n_sun, columns)
+
+
+@twin("sunset.model.sky_numba")
+def single_scattering(mu_v, cos_g, sun_z: float, n_view: int = _N_VIEW, n_sun: int = _N_SUN,
+                      columns=None) -> np.ndarray:
+    """The kernel of :func:`sky_radiance`: the single-scattering integral along each view ray, (K, n_λ).
+
+    Parameters
+    ----------
+    mu_v : ndarray (K,)
+        Sine of each view ray's elevation, clipped to [0, 1].
+    cos_g : ndarray (K,)
+        Cosine of the scattering angle, v·P clipped to [−1, 1].
+    sun_z : float
+        The sun direction's vertical component P_z.
+    n_view, n_sun : int
+        Samples along the view ray and along each sample's column towards the sun.
+    columns : callable, optional
+        As in :func:`sky_radiance`; only the NumPy reference takes one (its
+        compiled twin, :mod:`sunset.model.sky_numba`, integrates
+        :func:`slant_columns` itself, with the same bits).
+    """
+    sp = spectral_data()
     top = EARTH_RADIUS + ATMOSPHERE_TOP
     R = EARTH_RADIUS
     length = -R * mu_v + np.sqrt(R * R * mu_v * mu_v + top * top - R * R)
@@ -208,10 +236,9 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
     h = r - R
     dens = _densities(h) * ds[..., None]                 # (K, n, 3)
     view = np.cumsum(dens, axis=1) - 0.5 * dens
-    cos_g = np.clip(v @ p, -1.0, 1.0)                   # (K,)
     # the sun's direction cosine at each sample point (the local vertical is the
     # point's radius)
-    mu_s = (R * p[2] + s * cos_g[:, None]) / r
+    mu_s = (R * sun_z + s * cos_g[:, None]) / r
     if columns is None:
         col = view + slant_columns(h, mu_s, n_sun)       # (K, n, 3)
     else:
@@ -280,8 +307,30 @@ def island_lighting(sun_dir, delta: float) -> tuple[np.ndarray, np.ndarray]:
     """
     dirs, d_omega = _sphere()
     up = dirs[: len(dirs) // 2]
-    diffuse = (d_omega[: len(up)] * up[:, 2]) @ sky_radiance(up, sun_dir)
+    diffuse = (d_omega[: len(up)] * up[:, 2]) @ _upper_sky(sun_dir)
     return direct_irradiance(sun_dir, delta), diffuse
+
+
+def _upper_sky(sun_dir) -> np.ndarray:
+    """:func:`sky_radiance` over the upper half of :func:`_sphere`, read-only.
+
+    :func:`sky_dome` and :func:`island_lighting` both integrate it, often for
+    the same sun (a cloudy frame's tables ask for both), so the last few are
+    kept, apart for each path of :mod:`sunset.kernels` (they agree bit for bit).
+    """
+    p = np.asarray(sun_dir, dtype=float)
+    if p.shape != (3,):
+        dirs = _sphere()[0]
+        return sky_radiance(dirs[: len(dirs) // 2], p)
+    return _upper_sky_cached(np.ascontiguousarray(p).tobytes(), kernels.enabled())
+
+
+@functools.lru_cache(maxsize=16)
+def _upper_sky_cached(sun_bytes: bytes, compiled: bool) -> np.ndarray:
+    dirs = _sphere()[0]
+    out = sky_radiance(dirs[: len(dirs) // 2], np.frombuffer(sun_bytes, dtype=float))
+    out.setflags(write=False)
+    return out
 
 
 def direct_irradiance(sun_dir, delta: float) -> np.ndarray:
@@ -352,8 +401,17 @@ def irradiance(normals, directions, radiance, solid_angles) -> np.ndarray:
     -------
     ndarray (..., n_λ)
     """
+    return irradiance_weights(normals, directions, solid_angles) @ np.asarray(radiance, dtype=float)
+
+
+def irradiance_weights(normals, directions, solid_angles) -> np.ndarray:
+    """max(N·ω, 0) ΔΩ, (..., M): what :func:`irradiance` multiplies the radiance by.
+
+    It depends on the geometry alone, so a caller that lights the same
+    normals under many skies (the colour tables, one per hour) computes it once.
+    """
     cos = np.clip(np.asarray(normals, dtype=float) @ np.asarray(directions, dtype=float).T, 0.0, None)
-    return (cos * np.asarray(solid_angles, dtype=float)) @ np.asarray(radiance, dtype=float)
+    return cos * np.asarray(solid_angles, dtype=float)
 
 
 def sky_dome(sun_dir) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -368,11 +426,16 @@ def sky_dome(sun_dir) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     (ndarray (M, 3), ndarray (M, n_λ), ndarray (M,))
         Directions, radiance (per unit E₀) and solid angles over the sphere.
     """
-    dirs, d_omega = _sphere()
+    dirs, d_omega = dome_directions()
     half = len(dirs) // 2
-    sky = sky_radiance(dirs[:half], sun_dir)
+    sky = _upper_sky(sun_dir)
     sea = fresnel_reflectance(dirs[:half, 2])[:, None] * sky
     return dirs, np.concatenate([sky, sea]), d_omega
+
+
+def dome_directions() -> tuple[np.ndarray, np.ndarray]:
+    """The directions (M, 3) and solid angles (M,) of :func:`sky_dome`, without its radiance."""
+    return _sphere()
 
 
 def island_normals(sun: Sun, psi, samples: int = ISLAND_NORMAL_SAMPLES

@@ -25,8 +25,8 @@ import numpy as np
 from ..constants import HALO_STRENGTH
 from ..errors import SunsetError, require_finite
 from ..model.eye import exposure_key, film_response, srgb_encode, to_uint8
-from ..model.sky import (direct_irradiance, elevation, irradiance, island_normals, sky_dome, sky_radiance,
-                         spectral_data, sun_radiance)
+from ..model.sky import (direct_irradiance, dome_directions, elevation, irradiance_weights, island_normals, sky_dome,
+                         sky_radiance, spectral_data, sun_radiance)
 from ..model.clouds import Clouds, cloud_radiance
 from ..model.sun import Sun, require_hours
 from ..tape.codes import (CLOUDY_CODE_MAP, CODE_MAP, cloud_code_depths, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
@@ -109,14 +109,14 @@ def _island_factors(theta: float, size: int) -> np.ndarray:
     return (f * w).sum(axis=1) / w.sum()
 
 
-def _tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The three passes' tables as linear film response, shape (256, 3), and the sun's colour (3,)."""
-    cmap = CLOUDY_CODE_MAP if clouds is not None else CODE_MAP
-    theta = float(Sun.theta(hours))
-    p = sun.position(hours)
-    e_sun = elevation(p)
-    out = np.zeros((256, 3))
+@functools.lru_cache(maxsize=64)
+def _sky_directions(sun: Sun, cmap) -> tuple[np.ndarray, np.ndarray]:
+    """The sky, track and halo codes' view directions, each distinct one once, and where each code's is.
 
+    They depend on the sun's circle alone, not on the hour. The track's and
+    the halo's elevations are the same when they have as many codes, and
+    each direction's sky is integrated once (row by row, the same bits).
+    """
     # sky: look along the camera's axis at the code's elevation
     z = sky_code_z(cmap.sky.size)
     e_sky = np.arcsin(z)
@@ -125,20 +125,46 @@ def _tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> tupl
     # sky at the same elevation), so the track shows no seam where it is not glittering
     e_track = track_code_elevations(cmap.track.size, sun)
     e_halo = track_code_elevations(cmap.halo.size, sun)
-    dirs = np.concatenate([sky_dirs, _axis_direction(e_track), _axis_direction(e_halo)])
-    key = exposure_key(p)
-    sky = film_response(sky_radiance(dirs, p), key)
-    n1, n2 = cmap.sky.size, cmap.sky.size + cmap.track.size
-    sky_lin, track_sky, halo_sky = sky[:n1], sky[n1:n2], sky[n2:]
+    dirs = np.ascontiguousarray(np.concatenate([sky_dirs, _axis_direction(e_track), _axis_direction(e_halo)]))
+    _, first, where = np.unique(dirs.view(np.dtype((np.void, 3 * dirs.itemsize))).ravel(), return_index=True,
+                                return_inverse=True)
+    distinct = dirs[first]
+    for a in (distinct, where):
+        a.setflags(write=False)
+    return distinct, where.ravel()
 
+
+@functools.lru_cache(maxsize=64)
+def _island_geometry(sun: Sun, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """An island's codes' normal weights (K, S), mean |N_UV| (K, 1) and skylight weights (K, S, M): not hourly."""
+    normals, w = island_normals(sun, sun_plane_angle(island_code_rho(size)))
+    cos_beta = (w * np.hypot(normals @ sun.U, normals @ sun.V)).sum(axis=1)[:, None]  # mean |N_UV|
+    dirs, d_omega = dome_directions()
+    weights = irradiance_weights(normals, dirs, d_omega)
+    for a in (w, cos_beta, weights):
+        a.setflags(write=False)
+    return w, cos_beta, weights
+
+
+def _tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The three passes' tables as linear film response, shape (256, 3), and the sun's colour (3,).
+
+    Every code's spectral radiance first, then the film's response to all of
+    them at once (row by row, the same bits as one code range at a time).
+    """
+    cmap = CLOUDY_CODE_MAP if clouds is not None else CODE_MAP
+    theta = float(Sun.theta(hours))
+    p = sun.position(hours)
+    e_sun = elevation(p)
+    out = np.zeros((256, 3))
+    key = exposure_key(p)
     delta = sun.delta
     sun_lin = film_response(sun_radiance(e_sun, delta), key)
-    weights = glitter_weights(sun, hours)
-    a = weights[cmap.track.start:cmap.track.stop, None]
-    b = weights[cmap.halo.start:cmap.halo.stop, None]
-    out[cmap.sky.start:cmap.sky.stop] = sky_lin
-    out[cmap.track.start:cmap.track.stop] = (1 - a) * track_sky + a * sun_lin
-    out[cmap.halo.start:cmap.halo.stop] = (1 - b) * halo_sky + b * sun_lin
+
+    # sky, track and halo codes: the sky along the camera's axis (track and halo below)
+    distinct, where = _sky_directions(sun, cmap)
+    ranges = [cmap.sky, cmap.track, cmap.halo]
+    radiance = [sky_radiance(distinct, p)[where]]
 
     # islands: reflectance × (direct × cosine factor + diffuse sky)
     direct = direct_irradiance(p, delta)
@@ -146,16 +172,27 @@ def _tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> tupl
     sp = spectral_data()
     for rng, name in zip(cmap.islands, ("hill", "cliff", "beach")):
         f = _island_factors(theta, rng.size)[:, None]
-        normals, w = island_normals(sun, sun_plane_angle(island_code_rho(rng.size)))
-        cos_beta = (w * np.hypot(normals @ sun.U, normals @ sun.V)).sum(axis=1)[:, None]  # mean |N_UV|
-        skylight = np.einsum("kj,kjl->kl", w, irradiance(normals, *dome))
-        radiance = sp.reflectance[name] * (direct * cos_beta * f + skylight) / math.pi
-        out[rng.start:rng.stop] = film_response(radiance, key)
+        w, cos_beta, weights = _island_geometry(sun, rng.size)
+        skylight = np.einsum("kj,kjl->kl", w, weights @ dome[1])
+        radiance.append(sp.reflectance[name] * (direct * cos_beta * f + skylight) / math.pi)
+        ranges.append(rng)
 
     # clouds: lit by the sun at their own altitude, shaded by depth below the mean level
     if clouds is not None:
         depth = cloud_code_depths(cmap.cloud.size, clouds.max_top, clouds.max_bottom)
-        out[cmap.cloud.start:cmap.cloud.stop] = film_response(cloud_radiance(depth, p, clouds, delta), key)
+        radiance.append(cloud_radiance(depth, p, clouds, delta))
+        ranges.append(cmap.cloud)
+
+    lin = film_response(np.concatenate(radiance), key)
+    at = np.cumsum([0] + [rng.size for rng in ranges])
+    parts = {rng.name: lin[a:b] for rng, a, b in zip(ranges, at[:-1], at[1:])}
+    weights = glitter_weights(sun, hours)
+    a = weights[cmap.track.start:cmap.track.stop, None]
+    b = weights[cmap.halo.start:cmap.halo.stop, None]
+    for rng in ranges:
+        out[rng.start:rng.stop] = parts[rng.name]
+    out[cmap.track.start:cmap.track.stop] = (1 - a) * parts["track"] + a * sun_lin
+    out[cmap.halo.start:cmap.halo.stop] = (1 - b) * parts["halo"] + b * sun_lin
     return out, sun_lin
 
 

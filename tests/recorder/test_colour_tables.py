@@ -132,3 +132,65 @@ def test_sky_grades_with_height_at_sunset():
     z = sky_code_z(CODE_MAP.sky.size)
     inside = np.nonzero(z < math.sin(math.radians(10)))[0] + CODE_MAP.sky.start
     assert np.ptp(tab[:, inside], axis=1).max() > 10
+
+
+# --------------------------------------------------------------------------- the same bytes, computed plainly
+def plain_tables_linear(sun, hours, clouds=None):
+    """The tables one code range at a time, every direction integrated and every weight recomputed.
+
+    What :func:`sunset.recorder.colour_tables._tables_linear` computed before it
+    integrated each distinct direction once, kept the hour-independent
+    geometry and took the film's response to all codes at once.
+    """
+    from sunset.model import sky
+    from sunset.model.clouds import cloud_radiance
+    from sunset.model.eye import exposure_key, film_response
+    from sunset.recorder.colour_tables import _axis_direction, _island_factors, glitter_weights
+    from sunset.tape.codes import CLOUDY_CODE_MAP, cloud_code_depths, sky_code_z
+
+    cmap = CLOUDY_CODE_MAP if clouds is not None else CODE_MAP
+    theta = float(Sun.theta(hours))
+    p = sun.position(hours)
+    out = np.zeros((256, 3))
+    z = sky_code_z(cmap.sky.size)
+    sky_dirs = np.stack([np.zeros_like(z), np.cos(np.arcsin(z)), z], axis=-1)
+    dirs = np.concatenate([sky_dirs, _axis_direction(track_code_elevations(cmap.track.size, sun)),
+                           _axis_direction(track_code_elevations(cmap.halo.size, sun))])
+    key = exposure_key(p)
+    lin = film_response(sky.sky_radiance(dirs, p), key)
+    n1, n2 = cmap.sky.size, cmap.sky.size + cmap.track.size
+    sun_lin = film_response(sky.sun_radiance(sky.elevation(p), sun.delta), key)
+    wts = glitter_weights(sun, hours)
+    a = wts[cmap.track.start:cmap.track.stop, None]
+    b = wts[cmap.halo.start:cmap.halo.stop, None]
+    out[cmap.sky.start:cmap.sky.stop] = lin[:n1]
+    out[cmap.track.start:cmap.track.stop] = (1 - a) * lin[n1:n2] + a * sun_lin
+    out[cmap.halo.start:cmap.halo.stop] = (1 - b) * lin[n2:] + b * sun_lin
+    direct = sky.direct_irradiance(p, sun.delta)
+    dirs_m, d_omega = sky.dome_directions()
+    up = sky.sky_radiance(dirs_m[:len(dirs_m) // 2], p)           # the dome, integrated afresh
+    dome = (dirs_m, np.concatenate([up, sky.fresnel_reflectance(dirs_m[:len(up), 2])[:, None] * up]), d_omega)
+    sp = sky.spectral_data()
+    for rng, name in zip(cmap.islands, ("hill", "cliff", "beach")):
+        f = _island_factors(theta, rng.size)[:, None]
+        normals, w = sky.island_normals(sun, sun_plane_angle(island_code_rho(rng.size)))
+        cos_beta = (w * np.hypot(normals @ sun.U, normals @ sun.V)).sum(axis=1)[:, None]
+        skylight = np.einsum("kj,kjl->kl", w, sky.irradiance(normals, *dome))
+        out[rng.start:rng.stop] = film_response(sp.reflectance[name] * (direct * cos_beta * f + skylight) / math.pi,
+                                                key)
+    if clouds is not None:
+        depth = cloud_code_depths(cmap.cloud.size, clouds.max_top, clouds.max_bottom)
+        out[cmap.cloud.start:cmap.cloud.stop] = film_response(cloud_radiance(depth, p, clouds, sun.delta), key)
+    return out, sun_lin
+
+
+@pytest.mark.parametrize("scene", ["carlas-island", "carlas-island-clouds", "still-lake-at-noon"])
+def test_the_tables_are_the_plain_computations_bytes(scene):
+    from sunset.recorder.colour_tables import _tables_linear
+
+    sc = Scene.named(scene)
+    for hours in (1.5, 0.62, 0.05, -0.25, 4.0):
+        got, got_sun = _tables_linear(sc.sun, hours, sc.clouds)
+        want, want_sun = plain_tables_linear(sc.sun, hours, sc.clouds)
+        assert np.array_equal(got.view(np.uint8), want.view(np.uint8)), hours
+        assert np.array_equal(np.asarray(got_sun).view(np.uint8), np.asarray(want_sun).view(np.uint8)), hours
