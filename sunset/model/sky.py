@@ -167,6 +167,7 @@ def _phase_hg(cos_g, g=AEROSOL_ASYMMETRY):
     return (1.0 - g * g) / (4.0 * math.pi * (1.0 + g * g - 2.0 * g * cos_g) ** 1.5)
 
 
+@twin("sunset.model.sky_numba")
 def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN,
                  columns=None) -> np.ndarray:
     """Single-scattered sky radiance seen from sea level, per unit solar irradiance.
@@ -188,7 +189,9 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
         ``columns(altitude, mu)`` → (..., 3), the columns towards the sun from
         each sample point; default :func:`slant_columns` with ``n_sun``
         samples (a tabulated version of it makes many directions cheap,
-        :func:`sunset.light.lighting.tabulated_columns`).
+        :func:`sunset.light.lighting.tabulated_columns`; only the NumPy
+        reference takes one: its compiled twin, :mod:`sunset.model.sky_numba`,
+        integrates :func:`slant_columns` itself, with the same bits).
 
     Returns
     -------
@@ -196,36 +199,10 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
         Spectral radiance in units of the top-of-atmosphere solar irradiance
         spectrum (``spectral_data().sun``) per steradian.
     """
+    sp = spectral_data()
     v = np.asarray(directions, dtype=float).reshape(-1, 3)
     p = np.asarray(sun_dir, dtype=float)
     mu_v = np.clip(v[:, 2], 0.0, 1.0)
-    cos_g = np.clip(v @ p, -1.0, 1.0)                   # (K,)
-    if columns is None:
-        return single_scattering(mu_v, cos_g, float(p[2]), n_view, n_sun)
-    return single_scattering.reference(mu_v, cos_g, float(p[2]), n_view, n_sun, columns)
-
-
-@twin("sunset.model.sky_numba")
-def single_scattering(mu_v, cos_g, sun_z: float, n_view: int = _N_VIEW, n_sun: int = _N_SUN,
-                      columns=None) -> np.ndarray:
-    """The kernel of :func:`sky_radiance`: the single-scattering integral along each view ray, (K, n_λ).
-
-    Parameters
-    ----------
-    mu_v : ndarray (K,)
-        Sine of each view ray's elevation, clipped to [0, 1].
-    cos_g : ndarray (K,)
-        Cosine of the scattering angle, v·P clipped to [−1, 1].
-    sun_z : float
-        The sun direction's vertical component P_z.
-    n_view, n_sun : int
-        Samples along the view ray and along each sample's column towards the sun.
-    columns : callable, optional
-        As in :func:`sky_radiance`; only the NumPy reference takes one (its
-        compiled twin, :mod:`sunset.model.sky_numba`, integrates
-        :func:`slant_columns` itself, with the same bits).
-    """
-    sp = spectral_data()
     top = EARTH_RADIUS + ATMOSPHERE_TOP
     R = EARTH_RADIUS
     length = -R * mu_v + np.sqrt(R * R * mu_v * mu_v + top * top - R * R)
@@ -236,9 +213,10 @@ def single_scattering(mu_v, cos_g, sun_z: float, n_view: int = _N_VIEW, n_sun: i
     h = r - R
     dens = _densities(h) * ds[..., None]                 # (K, n, 3)
     view = np.cumsum(dens, axis=1) - 0.5 * dens
+    cos_g = np.clip(v @ p, -1.0, 1.0)                   # (K,)
     # the sun's direction cosine at each sample point (the local vertical is the
     # point's radius)
-    mu_s = (R * sun_z + s * cos_g[:, None]) / r
+    mu_s = (R * p[2] + s * cos_g[:, None]) / r
     if columns is None:
         col = view + slant_columns(h, mu_s, n_sun)       # (K, n, 3)
     else:

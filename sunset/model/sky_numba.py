@@ -1,4 +1,4 @@
-"""Numba twin of :func:`sunset.model.sky.single_scattering`: the sky's single-scattering integral, compiled.
+"""Numba twin of :func:`sunset.model.sky.sky_radiance`: the sky's single-scattering integral, compiled.
 
 The NumPy reference builds, for K view rays × n_view points × n_sun points
 towards the sun, arrays of heights, densities and their products, and then
@@ -36,7 +36,7 @@ from ..kernels import jit as _jit
 from ..trig_numba import fma64
 from . import sky
 
-__all__ = ["single_scattering", "matches_numpy"]
+__all__ = ["sky_radiance", "matches_numpy"]
 
 _R = EARTH_RADIUS
 _TOP = EARTH_RADIUS + ATMOSPHERE_TOP
@@ -139,12 +139,15 @@ def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, out
             out[k, lam] = sun[lam] * acc[lam]
 
 
-def _compiled(mu_v, cos_g, sun_z, n_view, n_sun):
+def _compiled(directions, sun_dir, n_view, n_sun):
+    """The compiled integral, whatever the probe says (the tests call it directly)."""
     sp = sky.spectral_data()
-    mu_v = np.ascontiguousarray(mu_v, dtype=float)
-    cos_g = np.ascontiguousarray(cos_g, dtype=float)
-    out = np.empty((mu_v.size, sp.tau.shape[1]))
-    _scatter(mu_v, cos_g, float(sun_z), sky._phase_rayleigh(cos_g), sky._phase_hg(cos_g),
+    v = np.asarray(directions, dtype=float).reshape(-1, 3)
+    p = np.asarray(sun_dir, dtype=float)
+    mu_v = np.ascontiguousarray(np.clip(v[:, 2], 0.0, 1.0))
+    cos_g = np.ascontiguousarray(np.clip(v @ p, -1.0, 1.0))
+    out = np.empty((len(v), sp.tau.shape[1]))
+    _scatter(mu_v, cos_g, float(p[2]), sky._phase_rayleigh(cos_g), sky._phase_hg(cos_g),
              np.ascontiguousarray(sp.tau), np.ascontiguousarray(sp.sun), int(n_view), int(n_sun), out)
     return out
 
@@ -163,22 +166,19 @@ def matches_numpy() -> bool:
         ok = True
         for e in (0.9, 0.2, 0.01, -0.05):
             p = np.array([0.0, math.cos(e), math.sin(e)])
-            mu_v = np.clip(dirs[:, 2], 0.0, 1.0)
-            cos_g = np.clip(dirs @ p, -1.0, 1.0)
-            want = sky.single_scattering.reference(mu_v, cos_g, float(p[2]), 16, 8)
-            got = _compiled(mu_v, cos_g, float(p[2]), 16, 8)
-            ok = ok and np.array_equal(want.view(np.uint8), got.view(np.uint8))
+            want = sky.sky_radiance.reference(dirs, p, 16, 8)
+            ok = ok and np.array_equal(want.view(np.uint8), _compiled(dirs, p, 16, 8).view(np.uint8))
         _verdict["ok"] = ok
     return _verdict["ok"]
 
 
-def single_scattering(mu_v, cos_g, sun_z, n_view=sky._N_VIEW, n_sun=sky._N_SUN, columns=None):
-    """:func:`sunset.model.sky.single_scattering` compiled.
+def sky_radiance(directions, sun_dir, n_view=sky._N_VIEW, n_sun=sky._N_SUN, columns=None):
+    """:func:`sunset.model.sky.sky_radiance` compiled.
 
     The NumPy reference runs instead where a ``columns`` is given, where
     :func:`matches_numpy` fails, and for a view ray of one point (``n_view``
     < 2: NumPy's matrix product takes another BLAS path for a single row).
     """
     if columns is not None or n_view < 2 or not matches_numpy():
-        return sky.single_scattering.reference(mu_v, cos_g, sun_z, n_view, n_sun, columns)
-    return _compiled(mu_v, cos_g, sun_z, n_view, n_sun)
+        return sky.sky_radiance.reference(directions, sun_dir, n_view, n_sun, columns)
+    return _compiled(directions, sun_dir, n_view, n_sun)
