@@ -299,6 +299,61 @@ def _cos_phase_into(b, y, c, x, w):
                 w[i] = cos32(x[i])
 
 
+@_jit
+def _train_into(bj, cj, top, p1, degree, last, y, u32, const, g, first):
+    """One train's share of a scan line's profile in one pass, for a Horner polynomial of ``degree`` 1 or 2.
+
+    The operations of :func:`_profile_row` element by element (θ = b y + c,
+    NumPy's float32 cos θ, Horner's rule, the profile written or added to,
+    and for the ``last`` train (g + Σ p_0 − h)·u), with no arrays in
+    between. Every phase must be within NumPy's limit (:func:`_profile_row_fast` checks).
+    """
+    for i in range(y.shape[0]):
+        iq, s, cs = _reduce(bj * y[i] + cj)
+        w = _pick(iq + np.int32(1), s, cs)
+        acc = w * top
+        if degree == 2:
+            acc = (acc + p1) * w
+        v = acc if first else g[i] + acc
+        g[i] = (v + const) * u32[i] if last else v
+
+
+@_jit
+def _profile_row_fast(col, b, c, p, n, y, u32, const, x, w, g):
+    """:func:`_profile_row` with one pass for each train whose polynomial is of degree 1 or 2 and whose phases are all
+    within NumPy's limit (the same bits; the others as there). ``y`` must be non-decreasing.
+
+    Rounding is monotone, so the phases fl(fl(b y_i) + c) of sorted y_i are
+    sorted too: the first and the last bound them all.
+    """
+    N = y.shape[0]
+    T = b.shape[0]
+    for j in range(T):
+        bj, cj, d = b[j, col], c[j], n[j] - 1
+        top = p[j, d]
+        first, last = j == 0, j == T - 1
+        if (d == 1 or d == 2) and N and abs(bj * y[0] + cj) <= COS_LIMIT and abs(bj * y[N - 1] + cj) <= COS_LIMIT:
+            _train_into(bj, cj, top, p[j, 1], d, last, y, u32, const, g, first)
+            continue
+        _cos_phase_into(bj, y, cj, x, w)
+        acc = g if first else x
+        for i in range(N):
+            acc[i] = w[i] * top
+        for k in range(d - 1, 0, -1):
+            pk = p[j, k]
+            for i in range(N):
+                acc[i] = (acc[i] + pk) * w[i]
+        if not first:
+            for i in range(N):
+                g[i] = g[i] + acc[i]
+        if last:
+            for i in range(N):
+                g[i] = (g[i] + const) * u32[i]
+    if T == 0:
+        for i in range(N):
+            g[i] = (np.float32(0.0) + const) * u32[i]
+
+
 # sea-profile-row-begin
 @_jit
 def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
@@ -328,7 +383,7 @@ def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
 
 @_jit
 def _sea_columns(b, c, p, n, y, u32, const, u, zeta0, dzeta, inv_dz_t, zeta0_t,
-                 kf_t, zero_t, K, best_u, best_surf, code):
+                 kf_t, zero_t, K, best_u, best_surf, code, monotone):
     """Each scan line's profile, then its scan line while it is in cache."""
     N = y.shape[0]
     x, w, g = np.empty(N, _F32), np.empty(N, _F32), np.empty(N, _F32)
@@ -337,7 +392,10 @@ def _sea_columns(b, c, p, n, y, u32, const, u, zeta0, dzeta, inv_dz_t, zeta0_t,
     row = np.empty(K)
     n_tail = 0
     for col in range(b.shape[1]):
-        _profile_row(col, b, c, p, n, y, u32, const, x, w, g)
+        if monotone:
+            _profile_row_fast(col, b, c, p, n, y, u32, const, x, w, g)
+        else:
+            _profile_row(col, b, c, p, n, y, u32, const, x, w, g)
         _scan_row_b(u, 0, g, 0, N, zeta0, dzeta, inv_dz_t, zeta0_t, kf_t,
                     zero_t, K, row, bins, first)
         # the far tail, and the depth buffer (the sea wins ties)
@@ -348,11 +406,19 @@ def _sea_columns(b, c, p, n, y, u32, const, u, zeta0, dzeta, inv_dz_t, zeta0_t,
 
 
 @_jit
-def _profile_rows(b, c, p, n, y, u32, const, g):
+def _profile_rows(b, c, p, n, y, u32, const, g, monotone):
     x = np.empty(y.shape[0], dtype=np.float32)
     w = np.empty(y.shape[0], dtype=np.float32)
     for col in range(g.shape[0]):
-        _profile_row(col, b, c, p, n, y, u32, const, x, w, g[col])
+        if monotone:
+            _profile_row_fast(col, b, c, p, n, y, u32, const, x, w, g[col])
+        else:
+            _profile_row(col, b, c, p, n, y, u32, const, x, w, g[col])
+
+
+def _monotone(y) -> bool:
+    """Whether y never decreases (no NaN): :func:`_profile_row_fast` bounds a train's phases by the first and the last."""
+    return bool(np.all(y[1:] >= y[:-1]))
 
 
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
@@ -360,7 +426,7 @@ def sea_profile(sea, s, u, h: float, t: float = 0.0):
     s, u, y, elev = _profile_arrays(s, u)
     if u.size:
         b, c, p, n, const = _sea_coefficients(sea, s, t, h)
-        _profile_rows(b, c, p, n, y, u.astype(_F32), const, elev)
+        _profile_rows(b, c, p, n, y, u.astype(_F32), const, elev, _monotone(y))
     return elev
 
 
@@ -378,7 +444,7 @@ def sea_columns(sea, s, u, h: float, t: float, zeta0: float, dzeta: float, n_pix
     bu, bs = np.ascontiguousarray(best_u), np.ascontiguousarray(best_surf)
     f = _F32
     tail = int(_sea_columns(b, c, p, n, y, u.astype(_F32), const, u, float(zeta0), float(dzeta), f(1.0 / dzeta),
-                            f(zeta0), f(n_pixels), f(0.0), int(n_pixels), bu, bs, SEA))
+                            f(zeta0), f(n_pixels), f(0.0), int(n_pixels), bu, bs, SEA, _monotone(y)))
     if bu is not best_u:
         best_u[...] = bu
     if bs is not best_surf:

@@ -206,3 +206,19 @@ def test_the_branch_free_scan_line_is_scan_convert(seed):
     heightfield_numba._scan_row_b(u, 0, g, 0, N, zeta0, dz, t(1.0 / dz), t(zeta0), t(K), t(0.0), K, got,
                                   np.empty(N, np.int32), np.empty(K + 1, np.int64))
     np.testing.assert_array_equal(got.view(np.uint64), want.view(np.uint64))
+
+
+@pytest.mark.parametrize("order", [1, 2, 3])
+def test_samples_in_any_order_and_phases_past_the_fast_range(order):
+    # the twin's one-pass trains bound a scan line's phases by its first and last sample, which needs y sorted;
+    # unsorted samples, and phases past COS_LIMIT at either end, take the general path: the same bits
+    rng = np.random.default_rng(order)
+    sea = Sea([WaveTrain(0.3, 30.0, 200.0, 0.4, stokes_order=order), WaveTrain(0.005, 0.2, 80.0, 0.0),
+               WaveTrain(0.1, 12.0, 140.0, 1.0, stokes_order=4 - order)])
+    s = rng.uniform(-0.4, 0.4, 9)
+    for u in (np.sort(rng.uniform(1e-5, 0.5, 400))[::-1], rng.uniform(1e-5, 0.5, 400),
+              np.sort(rng.uniform(0.2, 0.5, 400))[::-1]):
+        for t in (0.0, 3.7):
+            want = hf.sea_profile.reference(sea, s, u, 2.0, t)
+            got = hf.sea_profile.compiled()(sea, s, u, 2.0, t)
+            np.testing.assert_array_equal(got.view(np.uint32), want.view(np.uint32))
