@@ -18,7 +18,7 @@ import numpy as np
 
 from ..constants import ISLAND_SAMPLE_BUDGET, PART_NONE, SCANLINE_CHUNK_ELEMENTS, SEA, SKY
 from ..errors import SunsetError, require_finite
-from ..kernels import row_strips, run_strips, strips, twin
+from ..kernels import compiled_trig, enabled, row_strips, run_strips, strips, twin
 from ..model.waves import unit_normal
 from .frame import Frame
 from .budget import check_work
@@ -190,7 +190,9 @@ def _depth_buffer(scene, t: float, refine_islands: bool, islands: IslandPass | N
 
     tail = 0
     if samp.n:
-        tail = sum(run_strips(sea, strips(W, _chunk_columns(samp, W))))
+        # compiled, one scan line's profile at a time: no bound on the strips
+        most = None if enabled() and compiled_trig() else _chunk_columns(samp, W)
+        tail = sum(run_strips(sea, strips(W, most)))
     seconds["sea"] += clock() - tick
     counts = {"sea_samples": samp.n, "island_samples": islands.samples, "probe": islands.probe, "tail_pixels": tail}
     return best_u, best_surf, s_all, zeta, counts
