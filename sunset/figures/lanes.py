@@ -1,9 +1,10 @@
 """Both cores for one ``sunset figures`` run: two processes taking the figures from one queue.
 
 The figures are cut into *units* (:data:`UNITS`): a figure alone, or the
-figures that draw the same frame (:mod:`sunset.figures.shared`: Figure 6's
+figures that share what they compute (:mod:`sunset.figures.shared`: Figure 6's
 frame is also behind ``fig6-rgb.png`` and ``quantisation.png``, and Figure 7
-re-exposes its tape), so that nothing is computed twice. With two or more
+re-exposes its tape; the RGB figures share the light's tables), so that nothing
+is computed twice. With two or more
 workers (:func:`sunset.tape.cycle.frame_workers`) and two or more units to
 make, a second process is forked at the start of the run; it makes the first
 unit (the film, the longest: its wave cycle, 192 exposures and the encoders)
@@ -32,11 +33,15 @@ from ..errors import SunsetError
 __all__ = ["UNITS", "plan", "Queue", "SideLane"]
 
 #: The units the lanes take up, in this order: longest first (CPU seconds of each on the
-#: 2-core machine, 2026-12-02: film 13 with the colour tables then, 6-7-rgb-quantisation 7,
-#: ripples 3, clouds 2, 4 and reflections 1, the others under 1). A unit's figures are made
-#: by one process, in registry order.
-UNITS = (("film",), ("6", "7", "rgb", "quantisation"), ("ripples",), ("clouds",), ("4",), ("reflections",),
-         ("3",), ("diagnostic",), ("1",), ("2",), ("5",))
+#: 2-core machine, 2026-12-02: the film 10-13, the RGB unit 9, the ripples 3, Figure 4 and
+#: the reflections 1, the others under 1). A unit's figures are made by one process, in
+#: registry order. The RGB unit holds every figure of the RGB back end: Figure 6's frame is
+#: also behind ``fig6-rgb.png`` and ``quantisation.png`` (Figure 7 re-exposes its tape), and
+#: the light of an hour (:class:`~sunset.light.lighting.Lighting`) starts from a table of the
+#: sun's slant columns that a process builds once (about 1 s), which ``clouds-rgb.png`` then
+#: finds built.
+UNITS = (("film",), ("6", "7", "rgb", "quantisation", "clouds"), ("ripples",), ("4",), ("reflections",), ("3",),
+         ("diagnostic",), ("1",), ("2",), ("5",))
 
 
 def _can_fork() -> bool:
