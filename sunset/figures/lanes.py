@@ -17,9 +17,12 @@ folder. The files are made by the same functions either way, so they are the
 same bytes (which process made what changes nothing); the run stays all or
 nothing (:func:`sunset.figures._make_all` lands the files only when both lanes
 are done, and an error in either lane, or Ctrl-C, lands nothing; a lane that
-sees the other has failed takes no more units). The sky's spectral data
-(colour-science's tables, which both lanes use) is loaded before the fork,
-once. Where processes cannot be forked safely (no ``fork``, or Python 3.12+
+sees the other has failed takes no more units). The second process is forked
+as soon as the run starts: what both lanes then load for themselves (the sky's
+spectral data from colour-science, about 1 s; the compiled kernels) is loaded
+by the two at once, on both cores, where loading it before the fork would keep
+the other core idle for as long (the lanes end together, so the run is shorter
+by half of it). Where processes cannot be forked safely (no ``fork``, or Python 3.12+
 with threads running) the run keeps one lane.
 """
 
@@ -104,9 +107,6 @@ class SideLane:
     def start(self) -> "SideLane":
         import multiprocessing
 
-        from ..model.sky import spectral_data
-
-        spectral_data()                                  # colour-science imported once, for both processes
         ctx = multiprocessing.get_context("fork")
         self.conn, child = ctx.Pipe(duplex=False)
         for stream in (sys.stdout, sys.stderr):          # nothing buffered is written twice
