@@ -104,7 +104,9 @@ CREST_GRACE = 1e-7
 
 
 def crest_rise(amps, psi):
-    """A bound on top − Q_z = Σ a_n (1 − cos nψ) without a cosine, metres (ψ = θ mod 2π at the origin).
+    """A bound on top − Q_z = Σ a_n (1 − cos nψ) without a cosine, metres.
+
+    ψ = θ mod 2π is the wave's phase at the ray's origin.
 
     With x = n·min(ψ, 2π − ψ), 1 − cos x <= x²/2 − x⁴/24 + x⁶/720 for every
     real x (the Taylor series of the cosine stopped after a negative term is
@@ -115,7 +117,8 @@ def crest_rise(amps, psi):
     out = np.zeros_like(near)
     for n, a in enumerate(amps, start=1):
         x2 = (n * near) * (n * near)
-        out = out + a * np.minimum(2.0, x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0))))
+        taylor = x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)))
+        out = out + a * np.minimum(2.0, taylor)
     return out
 
 
