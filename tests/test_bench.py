@@ -152,3 +152,15 @@ def test_rgb_rows_split_the_four_sample_frame(report):
     assert len(whole) == len(vector) == len(back) == 1
     for a, b, c in zip(whole, vector, back):
         assert b > 0 and c > 0 and a == pytest.approx(b + c)
+
+
+def test_figures_are_timed_in_fresh_processes_outside_the_users_folder(tmp_path, monkeypatch):
+    from sunset.bench import extra
+
+    monkeypatch.chdir(tmp_path)
+    res = extra.measure_figures(runs=2, args=["--only", "1,2"])
+    assert res["files"] == 2                                 # fig1.png and fig2.png, in a temporary folder
+    assert not (tmp_path / "figures").exists()
+    assert len(res["runs_s"]) == len(res["cpu_s"]) == 2      # the warm-up run is not counted
+    assert res["median_s"] == statistics.median(res["runs_s"])
+    assert all(c > 0 for c in res["cpu_s"]) and res["cores"] >= 1

@@ -322,7 +322,7 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
                   frame_sizes=FRAME_SIZES, cycle_size=CYCLE_SIZE, cycle_frames: int = CYCLE_FRAMES,
                   numpy_reference: bool = True, scaling: bool = True, profile: bool = True,
                   rgb: bool = True, memory_sizes=extra.MEMORY_SIZES, film_look: bool = True,
-                  povray: bool = True, series: bool = False) -> dict:
+                  povray: bool = True, series: bool = False, figures: bool = False) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
@@ -401,6 +401,9 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     if series:
         log("Stokes' series by computer, exact and float64 ...")
         report["series"] = stokes_bench.rows(measure("series", 0, 0, repeats))
+    if figures:
+        log(f"sunset figures, every figure and the film, {extra.FIGURES_RUNS} runs ...")
+        report["figures"] = extra.measure_figures()
     mach["load_after"] = _load()
     print(format_table(rows))
     print(stokes_bench.format_rows(report.get("series", [])))
@@ -411,6 +414,9 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         p = report["povray"]
         print(f"POV-Ray {p['width']}x{p['height']}: {p['seconds']:.1f} s, {p['ratio']:.0f} × ours; "
               f"direct rays agree on {100 * p['direct_agree']:.2f} % of pixels")
+    if report.get("figures"):
+        f = report["figures"]
+        print(f"sunset figures ({f['files']} files): {f['median_s']:.1f} s, {f['median_cpu_s']:.1f} s of CPU (medians)")
     print(f"load average before {mach['load_before']}, after {mach['load_after']}")
     from ..io import write_bytes
 
@@ -442,6 +448,7 @@ def main(argv=None) -> int:
     p.add_argument("--brute-size", type=int, default=96)
     p.add_argument("--no-cycle", action="store_true")
     p.add_argument("--no-povray", action="store_true", help="do not time POV-Ray even where it is installed")
+    p.add_argument("--no-figures", action="store_true", help="do not time `sunset figures` (what make figures runs)")
     p.add_argument("--measure", choices=list(MEASUREMENTS), help=argparse.SUPPRESS)
     p.add_argument("--width", type=int, help=argparse.SUPPRESS)
     p.add_argument("--height", type=int, help=argparse.SUPPRESS)
@@ -460,7 +467,7 @@ def main(argv=None) -> int:
         return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     report = run_benchmark(args.out, args.repeats, args.brute_size, cycle=not args.no_cycle,
-                           povray=not args.no_povray, series=True)
+                           povray=not args.no_povray, series=True, figures=not args.no_figures)
     if not report["memory"]["ok"]:
         print(f"sunset.bench: FAILED: one frame needs more than {extra.BYTES_PER_PIXEL_BOUND} bytes per pixel",
               file=sys.stderr)

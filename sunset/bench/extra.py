@@ -213,3 +213,40 @@ def measure_limits(width: int, height: int, repeats: int = 5) -> dict:
             "memory_s": out_bytes / (bandwidth * cores),
             "sea_samples": samples, "trains": trains, "cosine_s": samples * trains / (best_rate * cores),
             "bytes_per_pixel_written": out_bytes / (width * height)}
+
+
+#: How many times the benchmark runs ``sunset figures`` (what ``make figures`` runs when every file is stale).
+FIGURES_RUNS = 3
+
+
+def measure_figures(runs: int = FIGURES_RUNS, args=()) -> dict:
+    """Wall-clock and CPU seconds of ``sunset figures`` writing every figure and the film, a fresh process each run.
+
+    What ``make figures`` runs when every file in ``figures/`` is out of date,
+    from a warm environment (the compiled kernels cached on disk by a first,
+    untimed run), into a temporary folder, so the user's ``figures/`` is never
+    touched. CPU time is the children's user + system time, the second
+    process of :mod:`sunset.figures.lanes` and the film's encoder included.
+    ``args``: more options for ``sunset figures`` (the tests ask for two small figures).
+    """
+    import subprocess
+    import sys
+    import tempfile
+
+    cmd = [sys.executable, "-m", "sunset", "figures", "--quiet", "--out"]
+    walls, cpus, files = [], [], 0
+    with tempfile.TemporaryDirectory(prefix="sunset-bench-figures-") as tmp:
+        for i in range(runs + 1):
+            out = Path(tmp) / f"run{i}"
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            start = time.perf_counter()
+            subprocess.run(cmd + [str(out), *args], check=True, stdout=subprocess.DEVNULL)
+            wall = time.perf_counter() - start
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            files = sum(1 for p in out.iterdir() if p.is_file())
+            if i:                                 # the first run warms the kernels' cache; not timed
+                walls.append(wall)
+                cpus.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+    return {"runs_s": walls, "cpu_s": cpus, "median_s": float(np.median(walls)),
+            "median_cpu_s": float(np.median(cpus)), "files": files, "cores": len(os.sched_getaffinity(0))
+            if hasattr(os, "sched_getaffinity") else os.cpu_count()}
