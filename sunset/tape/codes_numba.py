@@ -92,12 +92,12 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, u, v, su, sv, draw, 
             if draw:
                 uh, ul, uu = _pcg_double(uh, ul, uih, uil)
                 vh, vl, vv = _pcg_double(vh, vl, vih, vil)
-            else:
-                uu = u[y, x]
-                vv = v[y, x]
             if cycle and surface[y, x] != SEA:
                 codes[y, x] = still[y, x]
                 continue
+            if not draw:
+                uu = u[y, x]
+                vv = v[y, x]
             s = surf[y, x]
             if s >= 1:
                 # ρ̂(N) (sunset.tape.codes.rho_hat) and the island offset (sunset.tape.codes.island_offsets)
@@ -195,9 +195,8 @@ def encode_rows(codes, frame, seed: int, r0: int, H: int, sun, cmap):
     return _dither(seed, r0 * Wd, (h, Wd)) if others else None
 
 
-def encode_sea_rows(codes, frame, still, seed: int, r0: int, H: int, sun, cmap) -> None:
-    """:func:`sunset.tape.still.encode_sea_rows` in the compiled pass of :func:`encode_rows`: the still codes off the
-    sea, the sea pixels' final fields coded, the dither drawn inside the loop."""
-    Wd = codes.shape[1]
-    _encode(codes, frame, sun, cmap, streams=(_stream(seed, r0 * Wd), _stream(seed, (H + r0) * Wd)),
+def encode_sea_rows(codes, frame, still, u, v, sun, cmap) -> None:
+    """:func:`sunset.tape.still.encode_sea_rows` in the compiled pass of :func:`encode_pixels`: the still codes off the
+    sea, the sea pixels' final fields coded with the cycle pass's dither (read on the sea pixels alone)."""
+    _encode(codes, frame, sun, cmap, u=np.ascontiguousarray(u, np.float64), v=np.ascontiguousarray(v, np.float64),
             still=(still, frame.surface))

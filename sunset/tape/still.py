@@ -53,12 +53,17 @@ class CyclePass:
         Every pixel's direct ray D (the frames' ``direction``).
     codes : ndarray (H, W) uint8
         Each pixel's code when the sea does not take it: its direct ray's, on an island or in the sky.
+    u, v : ndarray (H, W) float64
+        The frames' dither (:func:`sunset.tape.codes.dither`'s streams of the seed): the same every frame,
+        drawn once here, where each frame would draw both streams' 2·H·W numbers to code its sea.
     """
 
     key: tuple
     islands: IslandPass
     direction: np.ndarray
     codes: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
 
 
 def still_key(scene, seed: int) -> tuple:
@@ -76,9 +81,11 @@ def cycle_pass(scene, seed: int = 0, islands: IslandPass | None = None) -> Cycle
         islands = island_pass(scene)
     frame = islands_alone(scene, islands).finish_direct(False)
     codes = encode(scene, frame, seed=seed)
-    for a in (frame.direction, codes):
+    H, W = frame.shape
+    u, v = dither(seed, 0, (H, W)), dither(seed, H * W, (H, W))
+    for a in (frame.direction, codes, u, v):
         a.flags.writeable = False
-    return CyclePass(key=still_key(scene, seed), islands=islands, direction=frame.direction, codes=codes)
+    return CyclePass(key=still_key(scene, seed), islands=islands, direction=frame.direction, codes=codes, u=u, v=v)
 
 
 def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> np.ndarray:
@@ -102,11 +109,12 @@ def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> 
     frame.final_part = np.empty(shape, np.int8)
     frame.final_normal = np.empty(shape + (3,), np.float32)
     trace_reflections(scene, frame, reflections, sea_bounces=False)
-    return encode_sea(scene, frame, still, seed)
+    return encode_sea(scene, frame, still)
 
 
-def encode_sea(scene, frame: Frame, still: CyclePass, seed: int) -> np.ndarray:
-    """Code a frame of the cycle: its sea pixels from their final rays, the others from ``still.codes``.
+def encode_sea(scene, frame: Frame, still: CyclePass) -> np.ndarray:
+    """Code a frame of the cycle: its sea pixels from their final rays and ``still``'s dither, the others from
+    ``still.codes``.
 
     ``frame`` is :func:`code_sea`'s (its final fields traced on the sea
     pixels). Strip by strip of rows on all threads, as :func:`sunset.tape.codes.encode`.
@@ -116,27 +124,26 @@ def encode_sea(scene, frame: Frame, still: CyclePass, seed: int) -> np.ndarray:
     sun, cmap = scene.sun, code_map(scene)
 
     def rows(r0: int, r1: int) -> None:
-        encode_sea_rows(codes[r0:r1], frame.rows(r0, r1), still.codes[r0:r1], seed, r0, H, sun, cmap)
+        encode_sea_rows(codes[r0:r1], frame.rows(r0, r1), still.codes[r0:r1], still.u[r0:r1], still.v[r0:r1],
+                        sun, cmap)
 
     run_strips(rows, strips(H, max(1, CODE_STRIP_PIXELS // W)))
     return codes
 
 
 @twin("sunset.tape.codes_numba")
-def encode_sea_rows(codes, frame: Frame, still, seed: int, r0: int, H: int, sun: Sun, cmap: CodeMap) -> None:
-    """Code the rows ``r0 …`` of a cycle's frame of H rows (``frame``, ``still`` and ``codes`` hold those rows).
+def encode_sea_rows(codes, frame: Frame, still, u, v, sun: Sun, cmap: CodeMap) -> None:
+    """Code some rows of a cycle's frame (``frame``, ``still``, ``u``, ``v`` and ``codes`` hold those rows).
 
     Off the sea (``frame.surface``), the still codes; on it,
     :func:`sunset.tape.codes.encode_pixels` of the final fields with the
-    rows' pieces of the dither streams u and v (:func:`sunset.tape.codes.dither`).
+    rows' pieces of the dither u and v (:class:`CyclePass`).
     """
     codes[...] = still
     sea = np.asarray(frame.surface) == SEA
     if not np.any(sea):
         return
     shape = codes.shape
-    u = dither(seed, r0 * shape[1], shape)
-    v = dither(seed, (H + r0) * shape[1], shape)
     # the final fields are read on the sea pixels alone: the others are marked as no surface to code
     only = replace(frame, final_surface=np.where(sea, frame.final_surface, SEA).astype(np.int8))
     out = np.zeros(shape, np.uint8)

@@ -76,8 +76,14 @@ def test_the_still_codes_are_the_frames_codes_where_the_sea_does_not_reach():
         assert off.any() and (frame.surface[off] >= 1).any() and (frame.surface[off] == SKY).any()
         np.testing.assert_array_equal(cp.codes[off], codes.encode(scene, frame, seed=5)[off])
         np.testing.assert_array_equal(cp.direction, frame.direction)
+    # the frames' dither, drawn once: the first 2·H·W numbers of the seed's stream, u then v, row by row
+    n = 90 * 120
+    stream = np.random.default_rng(5).random(2 * n)
+    np.testing.assert_array_equal(cp.u.ravel(), stream[:n])
+    np.testing.assert_array_equal(cp.v.ravel(), stream[n:])
+    assert cp.u.shape == cp.v.shape == (90, 120) and cp.u.dtype == cp.v.dtype == np.float64
     # handed out read only: a frame cannot spoil the next one
-    for a in (cp.codes, cp.direction):
+    for a in (cp.codes, cp.direction, cp.u, cp.v):
         with pytest.raises(ValueError):
             a.flat[0] = 0
 
@@ -151,10 +157,11 @@ def test_the_compiled_sea_codes_are_the_numpy_ones(name):
     rng = np.random.default_rng(9)
     edges = np.unique(np.concatenate([[0, H], rng.integers(1, H, 5)])).tolist()
     want = np.zeros((H, W), np.uint8)
-    still.encode_sea_rows.reference(want, frame, cp.codes, 11, 0, H, sun, cmap)
+    still.encode_sea_rows.reference(want, frame, cp.codes, cp.u, cp.v, sun, cmap)
     got = np.zeros((H, W), np.uint8)
     for r0, r1 in zip(edges[:-1], edges[1:]):
-        still.encode_sea_rows.compiled()(got[r0:r1], frame.rows(r0, r1), cp.codes[r0:r1], 11, r0, H, sun, cmap)
+        still.encode_sea_rows.compiled()(got[r0:r1], frame.rows(r0, r1), cp.codes[r0:r1], cp.u[r0:r1], cp.v[r0:r1],
+                                         sun, cmap)
     np.testing.assert_array_equal(got, want)
     sea = frame.surface == SEA
     assert sea.any() and (want[~sea] == cp.codes[~sea]).all()
@@ -170,7 +177,7 @@ def test_an_unknown_island_part_on_the_sea_is_refused_on_both_paths():
     frame.final_part[hit] = -3
     for compiled in (False, True):
         with kernels.use_compiled(compiled), pytest.raises(SunsetError, match="got -3"):
-            still.encode_sea(scene, frame, cp, 0)
+            still.encode_sea(scene, frame, cp)
 
 
 def test_a_cycle_pass_is_for_its_scene_and_seed():
