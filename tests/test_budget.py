@@ -60,7 +60,7 @@ def hostile_clouds(scene: Scene) -> Scene:
 def test_rgb_memory_is_measured_within_its_constants():
     """The hour's light and the growth per traced ray, measured, stay within RGB_LIGHT_BYTES and RGB_BYTES_PER_RAY."""
     light, per_ray = measure_rgb_bytes(Scene.default(), samples=4, sizes=((40, 32), (80, 64)))
-    assert 50 * 2**20 < light <= RGB_LIGHT_BYTES, light
+    assert 20 * 2**20 < light <= RGB_LIGHT_BYTES, light    # its grid, computed in blocks of rows: some 37 MB
     assert 100 < per_ray <= RGB_BYTES_PER_RAY, per_ray
 
 
@@ -73,7 +73,7 @@ def test_rgb_frame_peak_is_within_the_prediction(tmp_path, name):
     with use_compiled(False):
         peak = peak_of(lambda: write_rgb_frame(scene, tmp_path / "a.png", samples=4))
     assert peak <= rgb_bytes(48, 40, 4) == check_rgb_work(scene, 4)
-    assert peak > 0.5 * RGB_LIGHT_BYTES                  # the light's grid is most of a small frame's peak
+    assert peak > 20 * 2**20                             # the light's grid is most of a small frame's peak
 
 
 def test_rgb_film_peak_is_within_the_prediction():

@@ -32,13 +32,14 @@ handful of array operations per pixel, with no ray traced again.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..constants import CLOUD, SKY, WATER_REFRACTIVE_INDEX
 from ..errors import SunsetError
-from ..kernels import row_strips, run_strips, strips
+from ..kernels import row_strips, run_strips
 from .paths import lookups, trace_paths
 from .water import diffuse_mean_cosine
 
@@ -133,24 +134,86 @@ class Geometry:
         throughput = np.empty(npx, np.float32)
         mu_bar = diffuse_mean_cosine(n)
 
-        def rows(r0: int, r1: int) -> dict:
-            a, b = r0 * w, r1 * w
-            part = {k: v[a:b] for k, v in flat.items()}
-            kind[a:b], normal, throughput[a:b], layers = trace_paths(
-                part["surface"], part["final_surface"], part["final_part"], part["final_normal"],
-                part["direction"], part["normal"], part["incidence"], part["sea_rays"], float(n))
-            out = {"layers": [_water(i + a, up, wt, mu_bar) for i, up, wt in layers]}
-            out.update(lookups(part["ray"], part["final_surface"], part["bounces"], part["point"], kind[a:b], normal,
-                               a, None if depth is None else depth[a:b]))
-            return out
+        bands = row_strips(h, w)
+        lists = _Lists(npx, [r0 for r0, _ in bands])
 
-        parts = run_strips(rows, row_strips(h, w))
-        pieces = {key: [s[key] for s in parts] for key in parts[0] if key != "layers"}
-        for j, key in enumerate(_WATER):       # all strips' first bounce, then the second, then the fold
-            pieces[key] = [s["layers"][k][j] for k in range(3) for s in parts]
-        starts = np.cumsum([0] + [sum(len(s["layers"][k][0]) for s in parts) for k in range(2)]).astype(np.intp)
+        def rows(r0: int, r1: int) -> None:
+            a, b = r0 * w, r1 * w
+            try:
+                part = {k: v[a:b] for k, v in flat.items()}
+                kind[a:b], normal, throughput[a:b], layers = trace_paths(
+                    part["surface"], part["final_surface"], part["final_part"], part["final_normal"],
+                    part["direction"], part["normal"], part["incidence"], part["sea_rays"], float(n))
+                out = lookups(part["ray"], part["final_surface"], part["bounces"], part["point"], kind[a:b], normal,
+                              a, None if depth is None else depth[a:b])
+                for k, (i, up, wt) in enumerate(layers):
+                    out.update({(key, k): v for key, v in zip(_WATER, _water(i + a, up, wt, mu_bar))})
+            except BaseException:
+                lists.append(r0, None)      # the strips after it are not kept waiting
+                raise
+            lists.append(r0, out)
+
+        rows(*bands[0])     # here: the lists' arrays are made by this thread, from the memory it has freed
+        run_strips(rows, bands[1:])
+        fields, counts = lists.joined()
+        starts = np.cumsum([0] + counts[:2]).astype(np.intp)
         return cls(shape=(h, w), final_dir=final_dir, final_kind=kind, throughput=throughput,
-                   water_starts=starts, n=float(n), **_join(pieces))
+                   water_starts=starts, n=float(n), **fields)
+
+
+class _Lists:
+    """The lists of one frame's geometry, each strip's appended in the strips' order into arrays made once.
+
+    Joining the strips' lists after all of them are made holds them twice (the strips' pieces and the
+    joined copies: a 4-sample RGB frame's geometry is some 250 MB). Here each strip, once made, waits
+    for the strip before it to be appended and appends its own, in place, into arrays with room for
+    every pixel (the first bounce's water for all three bounces), so its pieces are freed (and their
+    memory reused by the next strips) as it goes, and only the pages written are touched. The values are
+    those of ``np.concatenate`` of the strips' lists, in order, in views of those arrays.
+    """
+
+    def __init__(self, npx: int, firsts: list):
+        self.npx = npx
+        self.order = {r0: i for i, r0 in enumerate(firsts)}      # a strip by its first row
+        self.arrays = {}
+        self.ends = {}
+        self.turn = 0
+        self.failed = False
+        self.cond = threading.Condition()
+
+    def append(self, r0: int, out: dict | None) -> None:
+        """Append the lists of the strip from row ``r0`` (``None``: it failed) after the strip before it's."""
+        i = self.order[r0]
+        with self.cond:
+            self.cond.wait_for(lambda: self.turn == i or self.failed)
+            try:
+                if out is None or self.failed:
+                    self.failed = True      # a strip failed: none more appended, none kept waiting
+                    return
+                for key, v in out.items():
+                    arr = self.arrays.get(key)
+                    if arr is None:
+                        room = self.npx * (3 if isinstance(key, tuple) and key[1] == 0 else 1)
+                        arr = self.arrays[key] = np.empty((room,) + v.shape[1:], v.dtype)
+                        self.ends[key] = 0
+                    e = self.ends[key]
+                    arr[e:e + len(v)] = v
+                    self.ends[key] = e + len(v)
+                self.turn = i + 1
+            finally:
+                self.cond.notify_all()
+
+    def joined(self) -> tuple[dict, list]:
+        """The lists (the water's three bounces one after the other) and the water entries of each bounce."""
+        fields = {key: arr[:self.ends[key]] for key, arr in self.arrays.items() if isinstance(key, str)}
+        counts = [self.ends[(_WATER[0], k)] for k in range(3)]
+        for key in _WATER:
+            arr, end = self.arrays[(key, 0)], counts[0]
+            for k in (1, 2):
+                arr[end:end + counts[k]] = self.arrays[(key, k)][:counts[k]]
+                end += counts[k]
+            fields[key] = arr[:end]
+        return fields, counts
 
 
 #: The water lists' fields, in the order :func:`_water` gives them.
@@ -162,22 +225,3 @@ def _water(index, up, weight, mu_bar: float) -> tuple:
     mu = np.maximum(up[:, 2], np.float32(0))
     sky = (weight.astype(np.float64) / (4.0 * np.pi) / (mu_bar + mu.astype(np.float64))).astype(np.float32)
     return index, up, weight, mu, sky
-
-
-def _join(pieces: dict) -> dict:
-    """Each key's pieces joined in order, as ``np.concatenate``, into arrays made once; the copies on the threads."""
-    out = {key: np.empty((sum(len(p) for p in ps),) + ps[0].shape[1:], ps[0].dtype) for key, ps in pieces.items()}
-    jobs = []
-    for key, ps in pieces.items():
-        start = 0
-        for p in ps:
-            jobs.append((out[key], start, p))
-            start += len(p)
-
-    def copy(a: int, b: int) -> None:
-        for dest, start, p in jobs[a:b]:
-            dest[start:start + len(p)] = p
-
-    run_strips(copy, strips(len(jobs)))
-    return out
-

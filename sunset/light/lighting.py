@@ -68,11 +68,21 @@ COLUMN_ROWS = 96
 COLUMN_MUS = 2049
 
 
+#: Rows of the column table computed at once: each point's column is computed alone (the same bytes in any
+#: block), and a block's samples along the rays (COLUMN_BLOCK × COLUMN_MUS × 24 × 3 float64) stay small,
+#: where the whole table's at once are about 370 MB the process then keeps (and, faulted in, pays for).
+COLUMN_BLOCK = 4
+
+
 @functools.lru_cache(maxsize=None)
 def _column_table() -> np.ndarray:
     u = np.arange(COLUMN_ROWS) / (COLUMN_ROWS - 1)
     mu = np.linspace(-1.0, 1.0, COLUMN_MUS)
-    return slant_columns((u * u * ATMOSPHERE_TOP)[:, None], mu[None, :])
+    out = np.empty((COLUMN_ROWS, COLUMN_MUS, 3))
+    for a in range(0, COLUMN_ROWS, COLUMN_BLOCK):
+        ua = u[a:a + COLUMN_BLOCK]
+        out[a:a + COLUMN_BLOCK] = slant_columns((ua * ua * ATMOSPHERE_TOP)[:, None], mu[None, :])
+    return out
 
 
 def tabulated_columns(altitude, mu) -> np.ndarray:
@@ -86,6 +96,20 @@ def tabulated_columns(altitude, mu) -> np.ndarray:
     rows = np.sqrt(np.clip(np.asarray(altitude) / ATMOSPHERE_TOP, 0.0, 1.0)) * (COLUMN_ROWS - 1)
     cols = (np.clip(np.asarray(mu), -1.0, 1.0) + 1.0) * (0.5 * (COLUMN_MUS - 1))
     return bilinear(table, rows, cols)
+
+
+#: Rows of the sky grid whose radiance is computed at once (each direction alone: the same bytes in any block).
+SKY_BLOCK = 8
+
+
+def _sky_radiance_rows(grid: np.ndarray, sun_dir: np.ndarray) -> np.ndarray:
+    """:func:`~sunset.model.sky.sky_radiance` (columns from :func:`tabulated_columns`) of the grid's directions,
+    (rows × columns, n_λ), SKY_BLOCK rows at a time: the samples along the view rays of all 4096 at once are
+    some 270 MB the process would keep (and, faulted in, pay for)."""
+    rows = grid.shape[0]
+    parts = [sky_radiance(grid[a:a + SKY_BLOCK].reshape(-1, 3), sun_dir, columns=tabulated_columns)
+             for a in range(0, rows, SKY_BLOCK)]
+    return np.concatenate(parts)
 
 
 #: Floor of the radiance before its logarithm is tabulated (the sky model's units).
@@ -166,7 +190,7 @@ class Lighting:
         sp = spectral_data()
         az = math.atan2(p[1], p[0])
         grid = sky_grid_directions(az)
-        sky = _spectrum_to_xyz(sky_radiance(grid.reshape(-1, 3), p, columns=tabulated_columns)).reshape(grid.shape)
+        sky = _spectrum_to_xyz(_sky_radiance_rows(grid, p)).reshape(grid.shape)
         sky = np.log(np.maximum(sky, _LOG_FLOOR))
         fr, fc = SKY_REFINE
         rows = np.arange((SKY_ROWS - 1) * fr + 1) / fr
