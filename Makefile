@@ -77,6 +77,7 @@ figure = $(eval STALE_FIGURES += $(1) $(2))$(if $(filter figures all,$(MAKECMDGO
 SOURCES    := $(shell find sunset -name '*.py' -o -name '*.toml')
 
 figures/.deps.mk: $(SOURCES)
+	@mkdir -p figures
 	@$(PYTHON) sunset/figures/deps.py figures > $@.tmp && mv $@.tmp $@
 
 # (not for `make clean`, which would otherwise write the rules only to remove them)

@@ -104,3 +104,15 @@ def test_make_figures_makes_every_stale_figure_in_one_process(tmp_path):
     # a file asked for by itself is made by its own process
     (folder / "figures/a.png").unlink()
     assert _make(folder, "figures/a.png") == ["RUN figures --only a --out figures"]
+
+
+def test_make_figures_without_the_figures_folder_makes_them_all(tmp_path):
+    """`rm -rf figures` then `make figures`: the rules are written again (into a new folder), not skipped."""
+    folder = _figure_project(tmp_path)
+    rules = (folder / "figures/.deps.mk").read_text(encoding="utf-8")
+    # the generator of the rules, as sunset/figures/deps.py: it prints them
+    (folder / "sunset/figures").mkdir(parents=True)
+    (folder / "sunset/figures/deps.py").write_text(f"print({rules!r}, end='')\n", encoding="utf-8")
+    shutil.rmtree(folder / "figures")
+    assert _make(folder, "figures") == ["RUN figures --only a,b,c --out figures"]
+    assert (folder / "figures/.deps.mk").read_text(encoding="utf-8") == rules
