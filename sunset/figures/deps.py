@@ -25,6 +25,7 @@ before the environment exists): ``python3 sunset/figures/deps.py``.
 from __future__ import annotations
 
 import ast
+import functools
 import sys
 from pathlib import Path
 
@@ -70,6 +71,7 @@ COMMON = ("sunset.__main__", "sunset.cli", "sunset.figures")
 DEFAULT_SCENE = "sunset/scenes/carlas-island.toml"
 
 
+@functools.lru_cache(maxsize=None)
 def module_file(name: str) -> Path | None:
     """The source file of a dotted module name inside the package, or None."""
     parts = name.split(".")
@@ -96,11 +98,15 @@ def _absolute(module: str, node: ast.ImportFrom) -> str:
     return ".".join(base + ([node.module] if node.module else []))
 
 
-def _imports(name: str, top_level: bool = False) -> list[str]:
-    """Dotted names of the package modules that ``name`` imports: anywhere in its source, or at its top level."""
+@functools.lru_cache(maxsize=None)
+def _imports(name: str, top_level: bool = False) -> tuple[str, ...]:
+    """Dotted names of the package modules that ``name`` imports: anywhere in its source, or at its top level.
+
+    Each module is read once per run (every figure's closure asks for the same modules).
+    """
     path = module_file(name)
     if path is None:
-        return []
+        return ()
     out = []
     tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
     for node in (tree.body if top_level else ast.walk(tree)):
@@ -116,9 +122,10 @@ def _imports(name: str, top_level: bool = False) -> list[str]:
                     out.append(sub)
                 else:
                     out.append(_defining_module(target, alias.name))
-    return out
+    return tuple(out)
 
 
+@functools.lru_cache(maxsize=None)
 def _defining_module(package: str, name: str) -> str:
     """The module that a package re-exports ``name`` from, or the package itself."""
     path = module_file(package)
@@ -143,7 +150,7 @@ def closure(start: str, router: bool = False) -> set[str]:
     imports are followed.
     """
     seen: set[str] = {start}
-    todo = _imports(start, top_level=router) + [".".join(start.split(".")[:i]) for i in range(1, start.count(".") + 1)]
+    todo = list(_imports(start, top_level=router)) + [".".join(start.split(".")[:i]) for i in range(1, start.count(".") + 1)]
     while todo:
         name = todo.pop()
         if name in seen or module_file(name) is None:
