@@ -48,6 +48,18 @@ _ALBEDO = AEROSOL_ALBEDO
 
 
 @_jit
+def _positions(n):
+    """The sample positions along a ray of n samples, as the reference's j = (i + ½)/n: j² and 2j/n."""
+    j2 = np.empty(n)
+    dj = np.empty(n)
+    for i in range(n):
+        j = (i + 0.5) / n
+        j2[i] = j * j
+        dj[i] = 2.0 * j / n
+    return j2, dj
+
+
+@_jit
 def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, out):
     k_count = mu_v.size
     n_l = tau.shape[1]
@@ -56,19 +68,8 @@ def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, out
     tt = _TOP * _TOP
     floor = -5.0 * _H_R
     r_pz = _R * sun_z
-    # the sample positions along a ray, as the reference's j, j², 2j/n
-    jv2 = np.empty(n_view)
-    dv = np.empty(n_view)
-    for i in range(n_view):
-        j = (i + 0.5) / n_view
-        jv2[i] = j * j
-        dv[i] = 2.0 * j / n_view
-    js2 = np.empty(n_sun)
-    ds_ = np.empty(n_sun)
-    for q in range(n_sun):
-        j = (q + 0.5) / n_sun
-        js2[q] = j * j
-        ds_[q] = 2.0 * j / n_sun
+    jv2, dv = _positions(n_view)
+    js2, ds_ = _positions(n_sun)
     h2 = np.empty(n_sun)
     w2 = np.empty(n_sun)
     e0 = np.empty(n_sun)
