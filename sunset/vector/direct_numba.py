@@ -16,7 +16,7 @@ import numpy as np
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..kernels import jit as _jit
 from ..trig_numba import cos32, sin32
-from .slopes_numba import BLOCK, _scratch, _slopes_block, slope_terms
+from .slopes_numba import BLOCK, _normals_block, _scratch, slope_terms
 
 
 @_jit
@@ -194,23 +194,6 @@ TILE_ROWS, TILE_COLUMNS = 32, 64
 
 
 @_jit
-def _sea_normals(n, bflat, bs32, by32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy, normal):
-    """The unit normals of the first ``n`` gathered sea pixels into their rows ``bflat`` of ``normal`` (…, 3)."""
-    _slopes_block(bs32[:n], by32[:n], l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy)
-    one = np.float32(1.0)
-    for i in range(n):                       # vectorised: z̄ into th, no scatter in this loop
-        gx = fx[i]
-        gy = fy[i]
-        th[i] = one / np.sqrt(gx * gx + gy * gy + one)
-    for i in range(n):
-        zb = th[i]
-        at = bflat[i]
-        normal[at, 0] = -zb * fx[i]
-        normal[at, 1] = -zb * fy[i]
-        normal[at, 2] = zb
-
-
-@_jit
 def _sea_geometry(best_u, best_surf, s_all, zeta, sea_code, surface, point, normal, l, m, c, lx, my, q, nq, block,
                   tile_rows, tile_columns):
     W, H = best_u.shape
@@ -240,11 +223,11 @@ def _sea_geometry(best_u, best_surf, s_all, zeta, sea_code, surface, point, norm
                         by32[n] = np.float32(yv)
                         n += 1
                         if n == block:
-                            _sea_normals(n, bflat, bs32, by32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy,
-                                         normal)
+                            _normals_block(bs32, by32, bflat, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy,
+                                           normal)
                             n = 0
     if n:
-        _sea_normals(n, bflat, bs32, by32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy, normal)
+        _normals_block(bs32[:n], by32[:n], bflat[:n], l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy, normal)
 
 
 def sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, normal) -> None:

@@ -114,21 +114,29 @@ def _slopes(s32, y32, l, m, c, lx, my, q, nq, block, out_x, out_y):
 
 
 @_jit
+def _normals_block(s32, y32, flat, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy, normal):
+    """The unit normals (−f_x, −f_y, 1)/|·| at the points (s32, y32) into the rows ``flat`` of ``normal`` (…, 3)."""
+    _slopes_block(s32, y32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy)
+    one = np.float32(1.0)
+    for i in range(y32.shape[0]):            # vectorised: z̄ into th, no scatter in this loop
+        gx = fx[i]
+        gy = fy[i]
+        th[i] = one / np.sqrt(gx * gx + gy * gy + one)
+    for i in range(y32.shape[0]):
+        zb = th[i]
+        at = flat[i]
+        normal[at, 0] = -zb * fx[i]
+        normal[at, 1] = -zb * fy[i]
+        normal[at, 2] = zb
+
+
+@_jit
 def _normals(s32, y32, l, m, c, lx, my, q, nq, block, flat, normal):
     n = y32.shape[0]
     th, sn, cs, acc, fx, fy = _scratch(min(n, block))
-    one = np.float32(1.0)
     for a in range(0, n, block):
         b = min(n, a + block)
-        _slopes_block(s32[a:b], y32[a:b], l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy)
-        for i in range(b - a):
-            gx = fx[i]
-            gy = fy[i]
-            zb = one / np.sqrt(gx * gx + gy * gy + one)
-            at = flat[a + i]
-            normal[at, 0] = -zb * gx
-            normal[at, 1] = -zb * gy
-            normal[at, 2] = zb
+        _normals_block(s32[a:b], y32[a:b], flat[a:b], l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy, normal)
 
 
 def _points(s, y):
