@@ -25,8 +25,8 @@ from .budget import check_work
 from .heightfield import sampling, sea_columns, sea_gradient_on_scanlines
 from .island_samples import islands_scan, probe_refinement
 
-__all__ = ["trace_direct", "trace_sea", "islands_alone", "sea_geometry", "IslandPass", "island_key", "island_pass", "assemble_geometry", "put_unit_normals",
-           "put_sea_normals", "put_island_normals"]
+__all__ = ["trace_direct", "trace_sea", "islands_alone", "sea_geometry", "IslandPass", "island_key", "island_pass",
+           "assemble_geometry", "put_unit_normals", "put_sea_normals", "put_island_normals"]
 
 _F32 = np.float32
 
@@ -162,11 +162,11 @@ def _depth_buffer(scene, t: float, refine_islands: bool, islands: IslandPass | N
     cam = scene.camera
     W, H, h = cam.width, cam.height, cam.eye_height
     d = scene.sea.max_elevation
-    dz = cam.pixel_pitch[1]
-    zeta0 = cam.zy_min + 0.5 * dz
     samp = sampling(cam, d)
     s_all = cam.s_centres()
-    zeta = zeta0 + dz * np.arange(H, dtype=np.float64)  # bottom up
+    dz = cam.pixel_pitch[1]
+    zeta = _row_heights(cam)             # bottom up
+    zeta0 = float(zeta[0])
     u_sea_lattice = samp.u()
     clock = time.perf_counter
     tick = clock()
@@ -235,9 +235,14 @@ def islands_alone(scene, islands: IslandPass) -> Frame:
     if islands.key != island_key(scene, True):
         raise SunsetError("islands: this island pass was computed for another camera, islands or sea height")
     cam = scene.camera
+    return _assemble(scene, 0.0, islands.u, islands.code, cam.s_centres(), _row_heights(cam))
+
+
+def _row_heights(cam) -> np.ndarray:
+    """ζ = z/y at the centre of every row, bottom up (H,) float64: the depth buffer's order."""
     dz = cam.pixel_pitch[1]
-    zeta = cam.zy_min + 0.5 * dz + dz * np.arange(cam.height, dtype=np.float64)
-    return _assemble(scene, 0.0, islands.u, islands.code, cam.s_centres(), zeta)
+    zeta0 = cam.zy_min + 0.5 * dz
+    return zeta0 + dz * np.arange(cam.height, dtype=np.float64)
 
 
 @twin("sunset.vector.direct_numba", numpy_trig=True)
