@@ -366,11 +366,35 @@ def save_matplotlib(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
     nothing needs closing. The PNG records the versions that made it
     (``sunset:provenance``, as every PNG of the package), and not matplotlib's
     own ``Software`` line.
+
+    A figure with a layout engine (``layout="constrained"``) is laid out once,
+    here, at ``dpi``, and then drawn once: ``savefig`` alone would draw it
+    twice (a first draw with the rendering switched off, only to run the
+    layout: every artist visited and every image resampled for nothing). The
+    layout it runs is the same, at the same dpi, so the file is the same bytes
+    (``tests/test_io.py`` compares the two); the figure gets its layout engine
+    and dpi back afterwards.
     """
     from .provenance import stamped
 
     check_writable(path, PNG_SUFFIXES)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, metadata=stamped())
+    engine = fig.get_layout_engine()
+    if engine is None:
+        fig.savefig(buf, format="png", dpi=dpi, metadata=stamped())
+    else:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        old_dpi, old_canvas = fig.dpi, fig.canvas
+        try:
+            fig.dpi = dpi
+            FigureCanvasAgg(fig)                 # the renderer the layout measures text with, at ``dpi``
+            engine.execute(fig)
+            fig.set_layout_engine(None)          # laid out: savefig draws once
+            fig.savefig(buf, format="png", dpi=dpi, metadata=stamped())
+        finally:
+            fig.set_layout_engine(engine)
+            fig.set_canvas(old_canvas)
+            fig.dpi = old_dpi
     write_bytes(path, buf.getvalue())
     return Path(path)

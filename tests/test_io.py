@@ -63,3 +63,40 @@ def test_png_roundtrip_with_metadata_is_deterministic(tmp_path):
 def test_png_rejects_non_uint8():
     with pytest.raises(TypeError):
         png_bytes(np.zeros((2, 2, 3)))
+
+
+def _busy_figure(layout="constrained"):
+    """A figure with what the package's figures hold: images, a colour bar, titles, a log axis, a legend."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(5, 3), layout=layout)
+    axes = fig.subplots(2, 2)
+    img = np.linspace(0, 1, 40 * 30).reshape(30, 40)
+    im = axes[0, 0].imshow(img, cmap="magma", interpolation="nearest")
+    axes[0, 0].set_title("an image, nearest", fontsize=9)
+    axes[0, 1].imshow(np.dstack([img, img[::-1], 1 - img]), interpolation="nearest")
+    axes[0, 1].set_axis_off()
+    fig.colorbar(im, ax=axes[0, 0], shrink=0.8, label="ΔE₀₀ (clipped)")
+    axes[1, 0].hist(img.ravel(), bins=12, histtype="step", density=True, label="a: median 0.50")
+    axes[1, 0].set_yscale("log")
+    axes[1, 0].legend(fontsize=7)
+    axes[1, 1].plot([0, 1, 2], [2, 0, 1])
+    axes[1, 1].set_xlabel("x (m)")
+    fig.suptitle("a busy figure")
+    return fig
+
+
+@pytest.mark.parametrize("layout", ["constrained", "tight", None])
+def test_save_matplotlib_is_savefig_laid_out_once(tmp_path, layout):
+    """save_matplotlib runs the layout once and draws once: the bytes of matplotlib's savefig (which draws twice),
+    and the figure keeps its layout engine and dpi."""
+    from sunset.io import save_matplotlib
+    from sunset.provenance import stamped
+
+    buf = io.BytesIO()
+    _busy_figure(layout).savefig(buf, format="png", dpi=70, metadata=stamped())
+    fig = _busy_figure(layout)
+    engine, dpi = fig.get_layout_engine(), fig.dpi
+    save_matplotlib(fig, tmp_path / "a.png", dpi=70)
+    assert (tmp_path / "a.png").read_bytes() == buf.getvalue()
+    assert fig.get_layout_engine() is engine and fig.dpi == dpi

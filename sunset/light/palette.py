@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 
-__all__ = ["median_cut_kmeans", "code_group_palette", "delta_e_2000", "QuantisationResult", "quantisation_test"]
+__all__ = ["median_cut_kmeans", "kmeans", "code_group_palette", "delta_e_2000", "QuantisationResult", "quantisation_test"]
 
 
 def median_cut_kmeans(rgb8: np.ndarray, colours: int = 256, iterations: int = 10, fit_pixels: int = 65536):
@@ -36,21 +36,52 @@ def median_cut_kmeans(rgb8: np.ndarray, colours: int = 256, iterations: int = 10
     evenly strided pixels; every pixel then takes its nearest colour.
     """
     from PIL import Image
-    from scipy.cluster.vq import kmeans2, vq
+    from scipy.cluster.vq import vq
 
     img = Image.fromarray(np.ascontiguousarray(rgb8, np.uint8))
     q = img.quantize(colors=colours, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
     seed = np.asarray(q.getpalette()[: 3 * colours], dtype=float).reshape(-1, 3)
     pixels = np.asarray(rgb8, dtype=float).reshape(-1, 3)
     fit = pixels[:: max(1, len(pixels) // fit_pixels)]
-    centres, _ = kmeans2(fit, seed, iter=iterations, minit="matrix", missing="warn") if len(seed) == colours \
-        else (seed, None)
+    centres = kmeans(fit, seed, iterations) if len(seed) == colours else seed
     centres = np.clip(np.rint(centres), 0, 255)
     # a frame repeats its colours: find each distinct colour's nearest centre once
     keys, inverse = np.unique(_pack(np.asarray(rgb8, np.uint8).reshape(-1, 3)), return_inverse=True)
     labels, _ = vq(_unpack(keys).astype(float), centres)
     palette = centres.astype(np.uint8)
     return palette, palette[labels[inverse.reshape(-1)]].reshape(np.shape(rgb8))
+
+
+def kmeans(points: np.ndarray, centres: np.ndarray, iterations: int) -> np.ndarray:
+    """Lloyd's k-means from ``centres`` (k, 3) over ``points`` (n, 3) of whole numbers 0–255: the centres after
+    ``iterations`` steps, the bits of ``scipy.cluster.vq.kmeans2(points, centres, iter=iterations,
+    minit="matrix")`` (a centre left without points stays where it was, with kmeans2's warning).
+
+    The pixels of a frame repeat their colours (a frame's 65 536 strided pixels hold some 9 000): each
+    step finds each distinct colour's nearest centre once (``scipy.cluster.vq.vq``, the function kmeans2
+    calls, so the same labels), and a centre's new place is the sum of its points over their count, where
+    the sums of whole numbers (below 2⁵³) are exact in any order, so the same bits as kmeans2's sums point
+    by point.
+    """
+    import warnings
+
+    from scipy.cluster.vq import vq
+
+    keys, counts = np.unique(_pack(np.asarray(points, np.int64)), return_counts=True)
+    rows = _unpack(keys).astype(float)
+    weighted = rows * counts[:, None]                     # whole numbers: exact
+    centres = np.array(centres, dtype=float)
+    k = len(centres)
+    for _ in range(int(iterations)):
+        label = vq(rows, centres)[0]
+        members = np.bincount(label, weights=counts, minlength=k)
+        sums = np.stack([np.bincount(label, weights=weighted[:, j], minlength=k) for j in range(3)], axis=1)
+        has = members > 0
+        if not has.all():
+            warnings.warn("One of the clusters is empty. Re-run kmeans with a different initialization.",
+                          stacklevel=2)
+        centres = np.where(has[:, None], sums / np.where(has, members, 1.0)[:, None], centres)
+    return centres
 
 
 def _pack(rgb8) -> np.ndarray:
@@ -133,7 +164,7 @@ def quantisation_test(display_linear: np.ndarray, codes: np.ndarray, sun_disk=No
     codes = np.asarray(codes).astype(np.intp)
     if sun_disk is not None:
         codes = np.where(sun_disk, 256, codes)
-    _, lin = code_group_palette(display_linear, codes)
-    by_code = to_uint8(lin)
+    palette, _ = code_group_palette(display_linear, codes)
+    by_code = to_uint8(palette)[codes]                   # the bytes of to_uint8 of the image, per code once
     return QuantisationResult(best=delta_e_2000(ref, best), codes=delta_e_2000(ref, by_code), best_image=best,
                               codes_image=by_code, reference=ref)

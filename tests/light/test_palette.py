@@ -1,5 +1,7 @@
 """The 8-bit test: palettes, CIEDE2000 against colour-science's reference data, the code-group table."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -68,3 +70,62 @@ def test_every_pixel_takes_its_nearest_palette_colour():
     best = d.min(axis=1)
     got = ((img.reshape(-1, 3).astype(int) - out.reshape(-1, 3).astype(int)) ** 2).sum(-1)
     np.testing.assert_array_equal(got, best)
+
+
+def _frame_like(seed=8, shape=(120, 90)):
+    """An image that repeats its colours as a frame does: smooth gradients, quantised to bytes, plus noise."""
+    rng = np.random.default_rng(seed)
+    y, x = np.mgrid[0:shape[0], 0:shape[1]]
+    img = np.stack([x * 255 / shape[1], y * 255 / shape[0], (x + y) % 97 * 2.0], axis=-1)
+    img[rng.random(shape) < 0.05] = rng.integers(0, 256, 3)
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("colours", [16, 64])
+def test_kmeans_is_scipys_kmeans2_bit_for_bit(colours):
+    from PIL import Image
+    from scipy.cluster.vq import kmeans2
+
+    from sunset.light.palette import kmeans
+
+    img = _frame_like()
+    q = Image.fromarray(img).quantize(colors=colours, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+    seed = np.asarray(q.getpalette()[: 3 * colours], dtype=float).reshape(-1, 3)
+    fit = img.reshape(-1, 3).astype(float)[::3]
+    with warnings.catch_warnings(record=True) as theirs:          # empty clusters: warned both ways
+        warnings.simplefilter("always")
+        want, _ = kmeans2(fit, seed, iter=10, minit="matrix", missing="warn")
+    with warnings.catch_warnings(record=True) as ours:
+        warnings.simplefilter("always")
+        got = kmeans(fit, seed, 10)
+    assert got.tobytes() == want.tobytes()
+    assert [str(w.message) for w in ours] == [str(w.message) for w in theirs]
+
+
+def test_kmeans_keeps_an_empty_centre_as_kmeans2_does():
+    from scipy.cluster.vq import kmeans2
+
+    from sunset.light.palette import kmeans
+
+    fit = np.repeat(np.array([[0.0, 0, 0], [10, 10, 10], [200, 0, 0], [210, 5, 0]]), [5, 3, 4, 2], axis=0)
+    seed = np.array([[0.0, 0, 0], [205, 0, 0], [0, 255, 255]])           # nothing near the third
+    with pytest.warns(UserWarning, match="clusters is empty"):
+        want, _ = kmeans2(fit, seed, iter=4, minit="matrix", missing="warn")
+    with pytest.warns(UserWarning, match="clusters is empty"):
+        got = kmeans(fit, seed, 4)
+    assert got.tobytes() == want.tobytes()
+
+
+def test_quantisation_by_codes_is_the_bytes_of_the_mean_image():
+    """quantisation_test turns each code's mean colour into bytes once: the bytes of to_uint8 of the whole image."""
+    from sunset.light.output import to_uint8
+    from sunset.light.palette import quantisation_test
+
+    rng = np.random.default_rng(9)
+    lin = rng.random((30, 40, 3)) ** 2
+    codes = rng.integers(0, 256, (30, 40))
+    sun = rng.random((30, 40)) < 0.1
+    q = quantisation_test(lin, codes, sun)
+    _, mean_image = code_group_palette(lin, np.where(sun, 256, codes))
+    assert q.codes_image.tobytes() == to_uint8(mean_image).tobytes()
+    assert q.best_image.dtype == np.uint8 and q.best_image.shape == lin.shape
