@@ -72,6 +72,7 @@ import numpy as np
 
 from ..constants import RIPPLE_BANDWIDTH_TEXELS, RIPPLE_MAX_RAYS, RIPPLE_MAX_REACH, RIPPLE_SLOPE_SIGMAS
 from ..errors import SunsetError, require_finite, require_int_range
+from ..kernels import twin
 from ..model.sky import spectral_data
 from .fresnel import reflectance, refract
 from .water import absorption, scattering
@@ -126,13 +127,14 @@ def patch_geometry(post, sea, sun_dir) -> tuple[np.ndarray, np.ndarray, float, f
     return toward, across, L, W
 
 
+@twin("sunset.light.ripples_numba")
 def _splat(phi, z, weight, phi_edges, z_edges, radius: float, h: float) -> np.ndarray:
     """Spread each hit's weight (hits, channels) over the texels with the normalised Epanechnikov kernel."""
     import scipy.sparse
 
     n_phi, n_z = len(phi_edges) - 1, len(z_edges) - 1
     dphi, dz = phi_edges[1] - phi_edges[0], z_edges[1] - z_edges[0]
-    weight = weight.reshape(len(phi), -1)
+    weight = weight.reshape(len(phi), math.prod(weight.shape[1:]))     # (hits, channels), also for no hits
     if len(phi) == 0:
         return np.zeros((n_z, n_phi, weight.shape[1]))
     i0 = np.floor(phi / dphi).astype(np.int64)

@@ -6,6 +6,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from sunset import kernels
 from sunset.errors import SunsetError
 from sunset.light.fresnel import reflectance
 from sunset.light.ripples import trace_ripples
@@ -122,3 +123,70 @@ def test_bad_arguments(wavy, kwargs, word):
 def test_a_scene_without_posts(wavy):
     with pytest.raises(SunsetError, match="no posts"):
         trace_ripples(replace(wavy, posts=()), 0)
+
+
+def _splat_cases():
+    """Hits of every kind: inside, at the texture's ends and beyond them (the nearest texel takes them whole),
+    across φ's seam, one channel and many, none; a tiny bandwidth (one texel) and a wide one."""
+    rng = np.random.default_rng(7)
+    phi_edges = np.linspace(0.0, 2 * math.pi, 23)
+    z_edges = np.linspace(-0.4, 2.0, 33)
+    n = 4000
+    phi = rng.random(n) * 2 * math.pi
+    phi[:50] = rng.random(50) * 1e-3                          # by the seam
+    z = rng.uniform(-0.8, 2.4, n)                             # some beyond either end
+    z[50:60] = [-0.4, 2.0, -0.4 - 1e-9, 2.0 + 1e-9, -0.45, 2.05, -3.0, 5.0, 0.0, 1.0]
+    dz = z_edges[1] - z_edges[0]
+    for weight in (rng.random(n), rng.random((n, 5)), rng.random((n, 41))):
+        for h in (1.5 * dz, 0.3 * dz, 3.2 * dz):
+            yield phi, z, weight, phi_edges, z_edges, 0.3, h
+    yield phi[:0], z[:0], np.zeros((0, 3)), phi_edges, z_edges, 0.3, 1.5 * dz
+    yield phi[:1], z[:1], np.ones(1), phi_edges, z_edges, 0.3, 1.5 * dz
+    yield phi, z, rng.random(n), phi_edges, z_edges, 0.3, 40 * dz    # a stencil wider than the post's round
+
+
+@pytest.mark.skipif(not kernels.AVAILABLE, reason="Numba is not installed")
+def test_the_compiled_splat_gives_the_references_bits():
+    from sunset.light.ripples import _splat
+
+    for args in _splat_cases():
+        want = _splat.reference(*args)
+        got = _splat.compiled()(*args)
+        assert got.shape == want.shape and got.dtype == want.dtype
+        np.testing.assert_array_equal(got.view(np.uint8), want.view(np.uint8))
+
+
+def test_the_splat_is_the_kernel_summed_texel_by_texel():
+    """The reference against an independent computation: each hit's kernel over the texels, one hit at a time."""
+    from sunset.light.ripples import _splat
+
+    rng = np.random.default_rng(3)
+    phi_edges = np.linspace(0.0, 2 * math.pi, 13)
+    z_edges = np.linspace(0.0, 1.0, 9)
+    dz = z_edges[1] - z_edges[0]
+    phi, z, w = rng.random(30) * 2 * math.pi, rng.uniform(-0.2, 1.2, 30), rng.random((30, 2))
+    h, radius = 1.5 * dz, 0.2
+    want = np.zeros((8, 12, 2))
+    centres_phi = 0.5 * (phi_edges[1:] + phi_edges[:-1])
+    centres_z = 0.5 * (z_edges[1:] + z_edges[:-1])
+    for p, q, wk in zip(phi, z, w):
+        dphi = np.angle(np.exp(1j * (centres_phi - p)))          # the shorter way round
+        d2 = (radius * dphi[None, :]) ** 2 + (centres_z[:, None] - q) ** 2
+        ker = np.maximum(1.0 - d2 / h ** 2, 0.0)
+        if ker.sum() > 0:
+            want += (ker / ker.sum())[..., None] * wk
+        else:
+            want[np.clip(int(np.floor((q - z_edges[0]) / dz)), 0, 7), int(p // (phi_edges[1])) % 12] += wk
+    for compiled in (False, True):
+        with kernels.use_compiled(compiled):
+            np.testing.assert_allclose(_splat(phi, z, w, phi_edges, z_edges, radius, h), want, rtol=1e-12, atol=1e-15)
+
+
+def test_the_textures_are_the_same_bits_either_way(wavy, still):
+    for scene in (wavy, still):
+        with kernels.use_compiled(False):
+            want = trace_ripples(scene, 0, 0.4, hours=HOURS, rays=1 << 14, texels=24)
+        with kernels.use_compiled(True):
+            got = trace_ripples(scene, 0, 0.4, hours=HOURS, rays=1 << 14, texels=24)
+        for a, b in ((got.above, want.above), (got.below, want.below)):
+            np.testing.assert_array_equal(a.view(np.uint8), b.view(np.uint8))
