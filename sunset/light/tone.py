@@ -32,13 +32,12 @@ decode_srgb = srgb_decode
 def xyz_to_rgb_matrix() -> np.ndarray:
     """M (3, 3) with linear sRGB = XYZ @ M: colour-science's XYZ → sRGB, CAT02 from the film's white to D65.
 
-    The transform is linear, so its matrix is its image of the unit vectors.
+    The transform is linear, so its matrix is its image of the unit vectors (computed without importing
+    colour-science: :func:`sunset.model.colorimetry.xyz_to_srgb`, the same bits).
     """
-    import colour
+    from ..model.colorimetry import xyz_to_srgb
 
-    m = colour.XYZ_to_sRGB(np.eye(3), illuminant=film_white(), chromatic_adaptation_transform="CAT02",
-                           apply_cctf_encoding=False)
-    m = np.asarray(m, dtype=float)
+    m = np.asarray(xyz_to_srgb(np.eye(3), film_white()), dtype=float)
     m.setflags(write=False)
     return m
 

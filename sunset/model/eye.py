@@ -19,6 +19,7 @@ import numpy as np
 
 from ..constants import (EXPOSURE_FOLLOW, EXPOSURE_SUN_ELEVATION, EYE_RESPONSE_EXPONENT, EYE_SEMI_SATURATION,
                          SUN_TRUE_RADIUS)
+from .colorimetry import xyz_to_srgb
 from .sky import island_lighting, sky_radiance, spectral_data
 
 __all__ = [
@@ -28,11 +29,12 @@ __all__ = [
 
 
 def xyz_to_linear_srgb(xyz: np.ndarray) -> np.ndarray:
-    """CIE XYZ → linear sRGB, adapted (CAT02) from the film's white (:func:`film_white`) to D65."""
-    import colour
+    """CIE XYZ → linear sRGB, adapted (CAT02) from the film's white (:func:`film_white`) to D65.
 
-    return colour.XYZ_to_sRGB(xyz, illuminant=film_white(), chromatic_adaptation_transform="CAT02",
-                              apply_cctf_encoding=False)
+    colour-science's ``XYZ_to_sRGB`` with that white, without importing it
+    (:func:`sunset.model.colorimetry.xyz_to_srgb`: the same bits).
+    """
+    return xyz_to_srgb(xyz, film_white())
 
 
 def spectrum_to_xyz(spec: np.ndarray) -> np.ndarray:
