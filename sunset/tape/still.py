@@ -10,9 +10,10 @@ the dither is reset to the same seed for every frame
 frame of the islands and the sky alone (:func:`sunset.vector.direct.islands_alone`,
 then :func:`sunset.tape.codes.encode`): every pixel the sea does not take has
 that code in every frame. A frame of the cycle (:func:`code_sea`) then traces
-and codes only its sea pixels: the sea's depth buffer, the sea pixels' points
-and normals (:func:`sunset.vector.direct.trace_sea`), their reflected rays
-(:func:`sunset.vector.reflect.trace_reflections`) and their codes
+and codes only its sea pixels: the sea's depth buffer
+(:func:`sunset.vector.direct.sea_depth`), then strip by strip of rows the sea
+pixels' points and normals (:func:`sunset.vector.direct.sea_strip`), their
+reflected rays (:func:`sunset.vector.reflect.trace_sea_rays`) and their codes
 (:func:`encode_sea_rows`); the codes are byte-identical to
 :func:`sunset.vector.render.render` and :func:`sunset.tape.codes.encode` (tests).
 
@@ -31,9 +32,9 @@ from ..constants import SEA
 from ..errors import SunsetError, require_finite, require_int_range
 from ..kernels import run_strips, strips, twin
 from ..model.sun import Sun
-from ..vector.direct import IslandPass, island_key, island_pass, islands_alone, trace_sea
+from ..vector.direct import IslandPass, island_key, island_pass, islands_alone, sea_depth, sea_strip
 from ..vector.frame import Frame
-from ..vector.reflect import trace_reflections
+from ..vector.reflect import trace_sea_rays
 from .codes import CODE_STRIP_PIXELS, CodeMap, code_map, dither, encode, encode_pixels
 
 __all__ = ["CyclePass", "cycle_pass", "still_key", "code_sea", "encode_sea", "encode_sea_rows"]
@@ -92,7 +93,13 @@ def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> 
     """The codes (H, W) uint8 of ``scene`` at ``t``: the sea's pixels traced and coded, the others from ``still``.
 
     The same bytes as ``encode(scene, render(scene, t, reflections), seed)``
-    for a scene without clouds or posts.
+    for a scene without clouds or posts. After the depth buffer
+    (:func:`sunset.vector.direct.sea_depth`), the frame is made strip by
+    strip of rows (:data:`SEA_STRIP_PIXELS`), on all threads: a strip's sea
+    geometry (:func:`sunset.vector.direct.sea_strip`), its reflected rays
+    (:func:`sunset.vector.reflect.trace_sea_rays`) and its codes
+    (:func:`encode_sea_rows`) one after the other, while its arrays are in
+    the cache; no array of the whole frame is made but the codes.
     """
     require_finite("t", t)
     require_int_range("reflections", reflections, 0, 2)
@@ -100,16 +107,32 @@ def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> 
         raise SunsetError("islands: this cycle pass was computed for another camera, islands, sea height, sun or seed")
     if scene.clouds is not None or scene.posts:
         raise SunsetError("a scene with clouds or posts is coded the whole way (sunset.tape.cycle.code_frame)")
-    frame = trace_sea(scene, float(t), still.islands, still.direction)
-    shape = frame.shape
-    # the final fields are written by the reflections on the sea pixels, and read only there
-    frame.bounces = np.empty(shape, np.uint8)
-    frame.ray = np.empty(shape + (3,), np.float32)
-    frame.final_surface = np.empty(shape, np.int8)
-    frame.final_part = np.empty(shape, np.int8)
-    frame.final_normal = np.empty(shape + (3,), np.float32)
-    trace_reflections(scene, frame, reflections, sea_bounces=False)
-    return encode_sea(scene, frame, still)
+    t = float(t)
+    depth = sea_depth(scene, t, still.islands)
+    H, W = still.codes.shape
+    codes = np.empty((H, W), np.uint8)
+    sun, cmap = scene.sun, code_map(scene)
+
+    def rows(r0: int, r1: int) -> None:
+        part = sea_strip(scene, t, depth, still.direction, r0, r1)
+        shape = part.shape
+        # the final fields are written by the reflections on the sea pixels, and read only there
+        part.reflections = reflections
+        part.bounces = np.empty(shape, np.uint8)
+        part.ray = np.empty(shape + (3,), np.float32)
+        part.final_surface = np.empty(shape, np.int8)
+        part.final_part = np.empty(shape, np.int8)
+        part.final_normal = np.empty(shape + (3,), np.float32)
+        if np.any(part.surface == SEA):
+            trace_sea_rays(scene, part, reflections)
+        encode_sea_rows(codes[r0:r1], part, still.codes[r0:r1], still.u[r0:r1], still.v[r0:r1], sun, cmap)
+
+    run_strips(rows, strips(H, max(1, SEA_STRIP_PIXELS // W)))
+    return codes
+
+
+#: Pixels in a strip of :func:`code_sea` at most: its arrays (about 80 bytes a pixel) stay in a core's cache.
+SEA_STRIP_PIXELS = 1 << 15
 
 
 def encode_sea(scene, frame: Frame, still: CyclePass) -> np.ndarray:

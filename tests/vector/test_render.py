@@ -149,6 +149,33 @@ def test_frames_over_two_processes_are_byte_identical_to_one():
     assert a.codes.tobytes() == b.codes.tobytes() and np.array_equal(a.times, b.times)
 
 
+def test_a_warm_process_gives_every_frame_to_the_workers_with_the_same_bytes(monkeypatch):
+    # a process that has not coded a frame of the kind renders the first itself (the forked workers inherit the
+    # loaded kernels); once it has, every frame goes to the workers: the same bytes either way, in order
+    from sunset.tape import cycle
+
+    scene = Scene.default().with_size(36, 30)
+    times = [0.0, 0.9, 2.1, 3.0]
+    serial = cycle.code_frames(scene, times, 2, seed=2, workers=1)
+    here = []
+    monkeypatch.setattr(cycle, "_WARM", set())
+    real = cycle.code_frame
+    monkeypatch.setattr(cycle, "code_frame", lambda *a, **k: here.append(a[1]) or real(*a, **k))
+    for warm in (False, True):
+        here.clear()
+        seen = []
+        got = cycle.code_frames(scene, times, 2, seed=2, workers=2, on_frame=lambda i, c: seen.append(i))
+        assert got.tobytes() == serial.tobytes() and seen == list(range(4))
+        assert here == ([] if warm else [0.0])     # the parent coded frame 0 only when cold
+        assert cycle._warm_key(scene) in cycle._WARM
+
+
+def test_a_worker_hands_back_the_free_memory_it_inherited():
+    from sunset.tape.cycle import release_inherited_memory
+
+    assert release_inherited_memory() is True      # glibc's malloc_trim (the tests run on glibc)
+
+
 def test_frame_workers(monkeypatch):
     import os
 
