@@ -187,6 +187,18 @@ def _even(rgb: np.ndarray) -> np.ndarray:
     return out
 
 
+def _even_parts(rgb: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The bytes of :func:`_even` of ``rgb``, in one or two contiguous pieces for the encoder's pipe.
+
+    An odd height needs only its last row once more (the film's 1020 × 1023 frames: no copy of
+    3 MB per frame); an odd width needs a new picture.
+    """
+    h, w = rgb.shape[:2]
+    if w % 2 or not rgb.flags.c_contiguous:
+        return (_even(rgb),)
+    return (rgb, rgb[h - 1:]) if h % 2 else (rgb,)
+
+
 def _frames_ahead(tape: Tape, from_hours: float, to_hours: float, cycles: int):
     """The pictures of :func:`film_frames`, exposed ahead on threads while the encoder works.
 
@@ -217,13 +229,21 @@ def _frames_ahead(tape: Tape, from_hours: float, to_hours: float, cycles: int):
             yield frame
 
 
+#: The preview's shrinking: Lanczos, from a picture first halved by 2 × 2 box averages wherever it is
+#: more than twice as wide as the preview (Pillow's ``reducing_gap``). For the film's 1020-pixel frames
+#: made 240 wide, that is a third of the CPU time of Lanczos from the full picture, and the frames
+#: differ from the full picture's by a PSNR of 48 dB, far less than the WebP's own loss at quality 80
+#: (36 dB; 2026-12-02, the film's 96 preview frames).
+PREVIEW_REDUCING_GAP = 2.0
+
+
 def _preview_image(rgb: np.ndarray, width: int):
     from PIL import Image
 
     img = Image.fromarray(rgb)
     if img.width > width:
         height = max(1, round(img.height * width / img.width))
-        img = img.resize((width, height), Image.Resampling.LANCZOS)
+        img = img.resize((width, height), Image.Resampling.LANCZOS, reducing_gap=PREVIEW_REDUCING_GAP)
     return img
 
 
@@ -386,7 +406,8 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
                 for j, rgb in enumerate(frames):
                     if path_preview is not None and j % step == 0:     # shrunk on a thread while the film is fed
                         preview.append(shrink.submit(_preview_image, rgb, preview_width))
-                    writer.send(_even(rgb))
+                    for part in _even_parts(rgb):
+                        writer.send(part)
                     bar.update(1)
             finally:
                 writer.close()

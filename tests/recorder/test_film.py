@@ -162,3 +162,19 @@ def test_webp_preview_loops_and_is_deterministic(tmp_path, tape):
     # the preview's last frame is the film's last frame, downscaled only if wider than the preview
     _, rgb = list(film_frames(tape, 1.0, -0.2, cycles=2))[-1]
     assert np.mean(np.abs(last.astype(int) - rgb)) < 12
+
+
+@pytest.mark.parametrize("shape", [(6, 8, 3), (7, 8, 3), (6, 9, 3), (7, 9, 3), (1, 4, 3)])
+def test_the_encoder_gets_the_even_pictures_bytes_in_pieces(shape):
+    from sunset.recorder.film import _even, _even_parts
+
+    rgb = np.arange(np.prod(shape), dtype=np.uint64).astype(np.uint8).reshape(shape)
+    for pic in (rgb, rgb[:, ::-1]):                      # contiguous or not
+        want = _even(pic)
+        assert want.shape[0] % 2 == 0 and want.shape[1] % 2 == 0
+        np.testing.assert_array_equal(want[:pic.shape[0], :pic.shape[1]], pic)
+        np.testing.assert_array_equal(want[-1, :pic.shape[1]], pic[-1])          # the last row again
+        np.testing.assert_array_equal(want[:pic.shape[0], -1], pic[:, -1])       # the last column again
+        parts = _even_parts(pic)
+        assert all(p.flags.c_contiguous for p in parts)
+        assert b"".join(p.tobytes() for p in parts) == want.tobytes()
