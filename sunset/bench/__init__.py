@@ -302,7 +302,16 @@ def machine() -> dict:
         numba_version = None
     return {"cpu": cpu, "cpus": os.cpu_count(), "platform": platform.platform(),
             "python": platform.python_version(), "numpy": numpy.__version__, "numba": numba_version,
-            "date": datetime.date.today().isoformat(), "load_before": _load()}
+            "numpy_simd": numpy_simd(), "date": datetime.date.today().isoformat(), "load_before": _load()}
+
+
+def numpy_simd() -> list[str]:
+    """The CPU extensions NumPy dispatches its kernels to here (AVX-512 changes its float64 exp and power)."""
+    try:
+        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    except ImportError:                      # pragma: no cover - another NumPy layout
+        return []
+    return [name for name in __cpu_dispatch__ if __cpu_features__.get(name)]
 
 
 def _load() -> list[float]:

@@ -226,13 +226,27 @@ def test_the_fused_twin_gives_the_references_bytes(exponent, monkeypatch):
         assert kernel.display_box.compiled()(xyz, 0.7, m, 0.5, 2.0, 1).tobytes() != want.tobytes()
 
 
-def test_the_eyes_exponent_takes_the_fused_path_here():
-    """On this project's machines (x86-64 with AVX2, glibc) NumPy's float64 power is libm's pow."""
+def test_the_eyes_exponent_takes_the_fused_path_where_numpys_power_is_libms():
+    """The fused path is taken exactly where NumPy's float64 power is the C library's ``pow``.
+
+    Python's ``math.pow`` calls the C library's, independently of the compiled kernels and of NumPy.
+    Where NumPy has no AVX-512 kernels it calls libm too, and the eye's exponent must take the fused
+    path; with AVX-512 (NumPy's own vector ``pow``) it must not, and the two-pass path gives NumPy's
+    bits (the tests above).
+    """
+    import math
+
+    from sunset.bench import numpy_simd
     from sunset.constants import EYE_RESPONSE_EXPONENT
 
     if not kernels.enabled():
         pytest.skip("Numba is off")
-    assert kernel_numba.fused_power(EYE_RESPONSE_EXPONENT) is True
+    y = kernel_numba._probe()
+    libm = np.array([math.pow(v, EYE_RESPONSE_EXPONENT) for v in y])
+    same = np.array_equal(np.power(y, EYE_RESPONSE_EXPONENT).view(np.int64), libm.view(np.int64))
+    assert kernel_numba.fused_power(EYE_RESPONSE_EXPONENT) is same
+    if not any(name.startswith("AVX512") for name in numpy_simd()):
+        assert same
 
 
 def _lookup_args(f):
