@@ -116,7 +116,7 @@ def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> 
     def rows(r0: int, r1: int) -> None:
         part = sea_strip(scene, t, depth, still.direction, r0, r1)
         shape = part.shape
-        # the final fields are written by the reflections on the sea pixels, and read only there
+        # the final fields: written by the reflections on the sea pixels, read only there
         part.reflections = reflections
         part.bounces = np.empty(shape, np.uint8)
         part.ray = np.empty(shape + (3,), np.float32)
@@ -125,7 +125,8 @@ def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> 
         part.final_normal = np.empty(shape + (3,), np.float32)
         if np.any(part.surface == SEA):
             trace_sea_rays(scene, part, reflections)
-        encode_sea_rows(codes[r0:r1], part, still.codes[r0:r1], still.u[r0:r1], still.v[r0:r1], sun, cmap)
+        encode_sea_rows(codes[r0:r1], part, still.codes[r0:r1], still.u[r0:r1],
+                        still.v[r0:r1], sun, cmap)
 
     run_strips(rows, strips(H, max(1, SEA_STRIP_PIXELS // W)))
     return codes
