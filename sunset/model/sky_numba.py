@@ -14,8 +14,10 @@ the reference's bits:
 * the optical depth ``col @ tau`` as the BLAS kernel computes a product with
   an inner dimension of 3: a product, then two fused multiply-adds,
   τ₂c₂ + (τ₁c₁ + τ₀c₀);
-* ``exp`` from the C library, as NumPy calls it for float64 where it has no
-  vector ``exp`` of its own (x86 without AVX-512);
+* each ``exp`` as NumPy takes it for float64 in this process
+  (:func:`sunset.exp_numba.choice`): the C library's (x86 without AVX-512),
+  or SVML's algorithm written out (x86 with AVX-512), an argument of the
+  kernel;
 * the sum over the view ray in order, as NumPy's ``sum(axis=1)`` adds rows.
 
 The BLAS kernel and NumPy's ``exp`` are chosen at run time by the CPU, so
@@ -33,6 +35,7 @@ import numpy as np
 from ..constants import (AEROSOL_ALBEDO, AEROSOL_SCALE_HEIGHT, ATMOSPHERE_TOP, EARTH_RADIUS, OZONE_HALF_WIDTH,
                          OZONE_PEAK_ALTITUDE, RAYLEIGH_SCALE_HEIGHT)
 from ..kernels import jit as _jit
+from ..exp_numba import LIBM, choice, exp64
 from ..trig_numba import fma64
 from . import sky
 
@@ -60,7 +63,7 @@ def _positions(n):
 
 
 @_jit
-def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, out):
+def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, which, out):
     k_count = mu_v.size
     n_l = tau.shape[1]
     rr = _R * _R
@@ -93,8 +96,8 @@ def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, out
             ds = length * dv[i]
             r = math.sqrt(rr + two_r * mu * s + s * s)
             h = r - _R
-            d0 = math.exp(-h / _H_R) / _H_R * ds
-            d1 = math.exp(-h / _H_A) / _H_A * ds
+            d0 = exp64(-h / _H_R, which) / _H_R * ds
+            d1 = exp64(-h / _H_A, which) / _H_A * ds
             d2 = max(1.0 - abs(h - _PEAK) / _HALF, 0.0) / _HALF * ds
             cum0 += d0
             cum1 += d1
@@ -113,8 +116,8 @@ def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, out
                 h2[q] = hq
                 oz[q] = max(1.0 - abs(hq - _PEAK) / _HALF, 0.0) / _HALF * w2[q]
             for q in range(n_sun):
-                e0[q] = math.exp(-h2[q] / _H_R)
-                e1[q] = math.exp(-h2[q] / _H_A)
+                e0[q] = exp64(-h2[q] / _H_R, which)
+                e1[q] = exp64(-h2[q] / _H_A, which)
             for q in range(n_sun):
                 e0[q] = e0[q] / _H_R * w2[q]
                 e1[q] = e1[q] / _H_A * w2[q]
@@ -133,11 +136,17 @@ def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, out
             for lam in range(n_l):
                 x[lam] = -fma64(col2, tau[2, lam], fma64(col1, tau[1, lam], col0 * tau[0, lam]))
             for lam in range(n_l):
-                x[lam] = math.exp(x[lam])
+                x[lam] = exp64(x[lam], which)
             for lam in range(n_l):
                 acc[lam] += (ra * tau[0, lam] + ae * tau[1, lam]) * x[lam]
         for lam in range(n_l):
             out[k, lam] = sun[lam] * acc[lam]
+
+
+def _which() -> int:
+    """The ``exp`` the kernel takes: the one :func:`sunset.exp_numba.choice` found NumPy using, else the C library's."""
+    w = choice()
+    return LIBM if w is None else w
 
 
 def _compiled(directions, sun_dir, n_view, n_sun):
@@ -149,7 +158,7 @@ def _compiled(directions, sun_dir, n_view, n_sun):
     cos_g = np.ascontiguousarray(np.clip(v @ p, -1.0, 1.0))
     out = np.empty((len(v), sp.tau.shape[1]))
     _scatter(mu_v, cos_g, float(p[2]), sky._phase_rayleigh(cos_g), sky._phase_hg(cos_g),
-             np.ascontiguousarray(sp.tau), np.ascontiguousarray(sp.sun), int(n_view), int(n_sun), out)
+             np.ascontiguousarray(sp.tau), np.ascontiguousarray(sp.sun), int(n_view), int(n_sun), _which(), out)
     return out
 
 

@@ -132,3 +132,37 @@ def test_the_tables_are_the_same_bytes_for_every_film_hour(scene):
             got, got_sun = ct._tables_linear(sc.sun, float(h), sc.clouds)
         assert np.array_equal(bits(got), bits(want)), h
         assert np.array_equal(bits(got_sun), bits(want_sun)), h
+
+
+def test_the_kernel_takes_the_exp_numpy_takes(monkeypatch):
+    """The twin's exp is the probe's choice, and the other exp would not give the reference's bits."""
+    from sunset import exp_numba
+
+    assert sky_numba._which() == exp_numba.choice() in (exp_numba.LIBM, exp_numba.SVML)
+    v = directions(seed=11, n=40)
+    p = np.array([0.0, math.cos(0.05), math.sin(0.05)])
+    want = sky_radiance.reference(v, p, 16, 8)
+    assert np.array_equal(bits(compiled(v, p, 16, 8)), bits(want))
+    other = exp_numba.SVML if sky_numba._which() == exp_numba.LIBM else exp_numba.LIBM
+    monkeypatch.setattr(sky_numba, "_which", lambda: other)
+    assert not np.array_equal(bits(compiled(v, p, 16, 8)), bits(want))
+
+
+def test_with_numpys_avx512_kernels_off_the_c_librarys_exp_is_chosen_and_the_twin_holds():
+    """NumPy told to leave its AVX-512 code (NPY_DISABLE_CPU_FEATURES) calls the C library's exp: the
+    other branch of the choice, checked on this machine in a fresh process (the same where there is no AVX-512)."""
+    import os
+    import subprocess
+    import sys
+
+    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+
+    off = [f for f in __cpu_dispatch__ if ("512" in f or f == "X86_V4") and __cpu_features__.get(f)]
+    env = dict(os.environ, NPY_DISABLE_CPU_FEATURES=" ".join(off)) if off else dict(os.environ)
+    code = ("from sunset import exp_numba; from sunset.model import sky_numba; "
+            "print(exp_numba.choice(), sky_numba.matches_numpy())")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr
+    from sunset import exp_numba
+
+    assert out.stdout.split() == [str(exp_numba.LIBM), "True"]
