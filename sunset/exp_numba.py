@@ -51,7 +51,7 @@ from numba.extending import intrinsic
 from .kernels import jit as _jit
 from .trig_numba import fma64
 
-__all__ = ["LIBM", "SVML", "exp_svml", "exp64", "probe", "choice", "EXPS"]
+__all__ = ["LIBM", "SVML", "exp_svml", "exp64", "exp_in_place", "exp_into", "probe", "choice", "EXPS"]
 
 #: The ``exp`` NumPy takes for float64: the C library's or SVML's.
 LIBM, SVML = 0, 1
@@ -146,15 +146,11 @@ def _rare(x):
 
 
 @_jit
-def exp_svml(x):
-    """e^x as NumPy's float64 ``np.exp`` computes it with SVML (``__svml_exp8_ha``), bit for bit."""
-    if x != x:
-        return x + x
-    if not abs(x) < _RARE:
-        return _rare(x)
+def _svml_vector(x):
+    """SVML's vector path for |x| < 707.70 (no branch: a loop of it vectorises)."""
     t = fma64(x, _LOG2E, _SHIFT)              # rounded to nearest; SVML rounds towards zero:
-    if fma64(x, _LOG2E, _SHIFT - t) < 0.0:    # the exact sum was below t, so one ulp (1/16) down
-        t -= 0.0625
+    low = fma64(x, _LOG2E, _SHIFT - t) < 0.0  # the exact sum was below t, so one ulp (1/16) down
+    t = t - 0.0625 if low else t
     n = t - _SHIFT                            # x·log₂e rounded down to 16ths, exactly
     j = np.int64(n * 16.0) & 15
     r = fma64(-n, _L1, x)
@@ -167,11 +163,39 @@ def exp_svml(x):
 
 
 @_jit
+def exp_svml(x):
+    """e^x as NumPy's float64 ``np.exp`` computes it with SVML (``__svml_exp8_ha``), bit for bit."""
+    if x != x:
+        return x + x
+    if not abs(x) < _RARE:
+        return _rare(x)
+    return _svml_vector(x)
+
+
+@_jit
 def exp64(x, which):
     """e^x by the ``exp`` NumPy uses: ``which`` is :data:`SVML` or :data:`LIBM` (from :func:`choice`)."""
     if which == SVML:
         return exp_svml(x)
     return math.exp(x)
+
+
+@_jit
+def exp_in_place(a, n, which):
+    """a[:n] = e^a[:n] by the ``exp`` ``which`` names; with SVML's, one vectorised loop where no |a| ≥ 707.70."""
+    if which != SVML:
+        for i in range(n):
+            a[i] = math.exp(a[i])
+        return
+    vector = True
+    for i in range(n):
+        vector &= abs(a[i]) < _RARE           # False for NaN too
+    if vector:
+        for i in range(n):
+            a[i] = _svml_vector(a[i])
+    else:
+        for i in range(n):
+            a[i] = exp_svml(a[i])
 
 
 @_jit

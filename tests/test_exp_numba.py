@@ -152,3 +152,24 @@ def test_the_probe_catches_an_exp_one_ulp_off(monkeypatch, where):
         assert E.choice() is None
     finally:
         E._verdict.pop("which", None)
+
+
+@pytest.mark.parametrize("which", [E.LIBM, E.SVML])
+@pytest.mark.parametrize("odd", [None, 800.0, -800.0, -740.0, np.inf, np.nan])
+def test_exp_in_place_is_exp64_element_by_element(which, odd):
+    """The block form the sky's kernel uses: the vectorised loop, or element by element where an
+    argument needs SVML's scalar path (or is NaN); only the first n elements change."""
+    rng = np.random.default_rng(9)
+    a = rng.uniform(-60.0, 5.0, 41)
+    if odd is not None:
+        a[17] = odd
+    want = a.copy()
+    with np.errstate(all="ignore"):
+        for i in range(37):
+            want[i] = E.exp64(a[i], which)
+    got = a.copy()
+    E.exp_in_place(got, 37, which)
+    assert np.array_equal(u64(got), u64(want))
+    if which == E.choice():
+        with np.errstate(all="ignore"):
+            assert np.array_equal(u64(got[:37]), u64(np.exp(a[:37])))

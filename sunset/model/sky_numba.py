@@ -35,7 +35,7 @@ import numpy as np
 from ..constants import (AEROSOL_ALBEDO, AEROSOL_SCALE_HEIGHT, ATMOSPHERE_TOP, EARTH_RADIUS, OZONE_HALF_WIDTH,
                          OZONE_PEAK_ALTITUDE, RAYLEIGH_SCALE_HEIGHT)
 from ..kernels import jit as _jit
-from ..exp_numba import LIBM, choice, exp64
+from ..exp_numba import LIBM, choice, exp64, exp_in_place
 from ..trig_numba import fma64
 from . import sky
 
@@ -116,8 +116,10 @@ def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, whi
                 h2[q] = hq
                 oz[q] = max(1.0 - abs(hq - _PEAK) / _HALF, 0.0) / _HALF * w2[q]
             for q in range(n_sun):
-                e0[q] = exp64(-h2[q] / _H_R, which)
-                e1[q] = exp64(-h2[q] / _H_A, which)
+                e0[q] = -h2[q] / _H_R
+                e1[q] = -h2[q] / _H_A
+            exp_in_place(e0, n_sun, which)
+            exp_in_place(e1, n_sun, which)
             for q in range(n_sun):
                 e0[q] = e0[q] / _H_R * w2[q]
                 e1[q] = e1[q] / _H_A * w2[q]
@@ -135,8 +137,7 @@ def _scatter(mu_v, cos_g, sun_z, phase_r, phase_hg, tau, sun, n_view, n_sun, whi
             ae = d1 * _ALBEDO * ae_k
             for lam in range(n_l):
                 x[lam] = -fma64(col2, tau[2, lam], fma64(col1, tau[1, lam], col0 * tau[0, lam]))
-            for lam in range(n_l):
-                x[lam] = exp64(x[lam], which)
+            exp_in_place(x, n_l, which)
             for lam in range(n_l):
                 acc[lam] += (ra * tau[0, lam] + ae * tau[1, lam]) * x[lam]
         for lam in range(n_l):
