@@ -13,9 +13,10 @@ that is depends on the CPU NumPy finds at run time:
   :data:`SVML`. :func:`exp_svml` computes its algorithm one operation at a
   time.
 
-The SVML algorithm (Intel's Short Vector Math Library, as vendored by NumPy
-in ``numpy/SVML``, BSD-3-Clause; the constants below are its, the code is
-ours):
+The SVML algorithm (Intel's Short Vector Math Library as NumPy vendors it
+in ``numpy/SVML`` and links into its Linux wheels, BSD-3-Clause, read from
+the routine NumPy 2.4 ships; the constants below are its, the tables of
+2^(j/n) are computed here from exact integer roots, the code is ours):
 
 1. N = x·log₂e rounded *down* to a multiple of 1/16 (a fused multiply-add
    with a shifter, rounded towards zero), so x = N ln 2 + R with
@@ -29,7 +30,9 @@ ours):
 Arguments with |x| ≥ 707.70 (and infinities) go to a scalar routine of its
 own: 2^(j/64) from a 64-entry table, a degree-6 polynomial by Horner's rule
 in separate multiplies and adds, +∞ above 709.78, 0 below −745.13, and
-results below 2⁻¹⁰²² scaled by 2⁶⁰ and back with a split that rounds once.
+results below 2⁻¹⁰²² computed scaled by 2⁶⁰, split in two parts and scaled back.
+:func:`exp_in_place` takes a block of arguments at once: where none needs the
+scalar routine, the vector path has no branch and the loop vectorises.
 NaN comes back as the same NaN, quietened.
 
 Which one NumPy uses in this process is decided once, by :func:`choice`,
