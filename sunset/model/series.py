@@ -18,6 +18,7 @@ from __future__ import annotations
 import functools
 import math
 import warnings
+from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
@@ -26,6 +27,7 @@ from scipy.optimize import minimize_scalar
 
 from ..constants import STOKES_MAX_STEEPNESS, STOKES_SERIES_MAX_ORDER_EXACT, STOKES_SERIES_MAX_ORDER_FLOAT
 from ..errors import SunsetError, require_finite, require_int_range
+from .pade import RationalPade, pade_coefficients, pade_exact
 from .series_recurrence import Ring, compose, conformal_rows, eulerian_amplitude, inverse, join, modes, mul, \
     pair_powers, revert, sqrt
 
@@ -55,32 +57,6 @@ class SeriesWave(NamedTuple):
     def alpha(self) -> float:
         """α = k a₁."""
         return float(self.amplitudes[0])
-
-
-def pade_coefficients(an, m: int, n: int) -> tuple[np.poly1d, np.poly1d]:
-    """The Padé approximant p/q of the power series with coefficients ``an``: q of degree m, p of degree n.
-
-    p and q (q(0) = 1) are fixed by the Taylor coefficients of q·f − p
-    vanishing through order m + n, one linear system of m + n + 1 equations
-    in the coefficients of p and q₁ … q_m: the construction of
-    ``scipy.interpolate.pade`` (deprecated in SciPy 1.18, removed in 1.20),
-    solved the same way, so the results are the same to the last bit.
-
-    Returns
-    -------
-    p, q : numpy.poly1d
-    """
-    an = np.asarray(an, dtype=float)
-    N = m + n
-    if m < 0 or n < 0 or N > len(an) - 1:
-        raise SunsetError(f"a Padé approximant of degrees {n}/{m} needs {N + 1} coefficients, got {len(an)}")
-    an = an[: N + 1]
-    rows = np.zeros((N + 1, m))
-    for row in range(1, N + 1):
-        k = min(row, m)
-        rows[row, :k] = -an[row - k:row][::-1]
-    pq = scipy.linalg.solve(np.hstack((np.eye(N + 1, n + 1), rows)), an)
-    return np.poly1d(pq[: n + 1][::-1]), np.poly1d(np.r_[1.0, pq[n + 1:]][::-1])
 
 
 class StokesSeries:
@@ -125,6 +101,7 @@ class StokesSeries:
         self._amplitudes: dict[int, np.ndarray] = {}
         self._powers: dict[str, list[tuple[np.ndarray, int]]] = {}
         self._converted: dict[tuple[str, str], np.ndarray] = {}
+        self._pades: dict[tuple[str, str, int], tuple[RationalPade, int, int]] = {}
 
     def __repr__(self) -> str:
         return f"StokesSeries(order={self.order}, exact={self.exact})"
@@ -239,21 +216,23 @@ class StokesSeries:
              terms: int | None = None):
         """The diagonal Padé approximant of ``quantity``'s series, evaluated at x.
 
-        Built with ``pade_coefficients`` (this module) from the first ``terms`` + 1
-        coefficients. A series that is even or odd (the speed and the
-        amplitudes in α or ε) is continued in x², so that the approximant
-        keeps that symmetry. Padé's linear system is badly conditioned at high
-        order (SciPy warns); how good the result is, is measured against the
-        exact solver in the tests and the book, not assumed.
+        Built from the first ``terms`` + 1 coefficients. A series that is even
+        or odd (the speed and the amplitudes in α or ε) is continued in x², so
+        that the approximant keeps that symmetry. For an exact series the
+        approximant is exact (``pade_exact``, made once and kept) and so is
+        its value at each x, rounded once to float64: the same bits on every
+        machine. For a float series it is ``pade_coefficients``' float64
+        solution, whose linear system is badly conditioned at high order.
         """
         require_finite("x", x)
         X = np.asarray(x, dtype=float)
+        if self.exact:
+            pq, shift, stride = self._exact_pade(quantity, parameter, terms)
+            exact = [Fraction(v) ** shift * pq(Fraction(v) ** stride)
+                     for v in X.ravel().tolist()]
+            return np.array([float(v) for v in exact]).reshape(X.shape)[()]
         b = self._float(quantity, parameter, terms)
-        shift, stride = 0, 1
-        if np.all(b[1::2] == 0):
-            stride = 2
-        elif np.all(b[0::2] == 0):
-            shift, stride = 1, 2
+        shift, stride = _symmetry(b)
         g = b[shift::stride]
         scale = _PADE_SCALE[parameter] ** stride
         g = g * scale ** np.arange(len(g))
@@ -266,6 +245,18 @@ class StokesSeries:
                 p, q = np.poly1d(g), np.poly1d([1.0])
         t = X**stride / scale
         return X**shift * p(t) / q(t)
+
+    def _exact_pade(self, quantity: str, parameter: str, terms: int | None) -> tuple[RationalPade, int, int]:
+        """The exact diagonal approximant (in x^stride, times x^shift), computed once per (quantity, parameter, terms)."""
+        terms = self.order if terms is None else terms
+        require_int_range("terms", terms, 1, self.order)
+        key = (quantity, parameter, terms)
+        if key not in self._pades:
+            b = self._series(quantity, parameter)[: terms + 1]
+            shift, stride = _symmetry(b)
+            N = len(b[shift::stride]) - 1
+            self._pades[key] = pade_exact(b[shift::stride], N // 2, N - N // 2), shift, stride
+        return self._pades[key]
 
     def at_steepness(self, steepness: float, n_amplitudes: int = 4, terms: int | None = None) -> SeriesWave:
         """The wave of steepness H/λ summed from the series by Padé approximants in ε = π H/λ."""
@@ -293,6 +284,15 @@ class StokesSeries:
                               method="bounded", options={"xatol": 1e-10})
         omega = float(res.x)
         return float(self.pade("height", omega, "omega", terms)) / math.pi, float(-res.fun)
+
+
+def _symmetry(b) -> tuple[int, int]:
+    """(shift, stride): (0, 2) for an even series, (1, 2) for an odd one, (0, 1) otherwise."""
+    if np.all(b[1::2] == 0):
+        return 0, 2
+    if np.all(b[0::2] == 0):
+        return 1, 2
+    return 0, 1
 
 
 @functools.lru_cache(maxsize=8)
