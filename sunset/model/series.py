@@ -222,7 +222,9 @@ class StokesSeries:
         approximant is exact (``pade_exact``, made once and kept) and so is
         its value at each x, rounded once to float64: the same bits on every
         machine. For a float series it is ``pade_coefficients``' float64
-        solution, whose linear system is badly conditioned at high order.
+        solution, whose linear system is badly conditioned at high order;
+        where it is singular, the denominator's degree is lowered, as the
+        exact approximant's is.
         """
         require_finite("x", x)
         X = np.asarray(x, dtype=float)
@@ -239,10 +241,15 @@ class StokesSeries:
         N = len(g) - 1
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            if N >= 1:
-                p, q = pade_coefficients(g, N // 2, N - N // 2)
-            else:
-                p, q = np.poly1d(g), np.poly1d([1.0])
+            m = N // 2
+            while True:     # a singular system (a series that ends, as the height in ε): lower q's degree
+                try:
+                    p, q = pade_coefficients(g, m, N - m)
+                    break
+                except np.linalg.LinAlgError:
+                    if m == 0:                       # pragma: no cover - the m = 0 system is the identity
+                        raise
+                    m -= 1
         t = X**stride / scale
         return X**shift * p(t) / q(t)
 

@@ -343,3 +343,11 @@ def test_bench_times_the_series():
     rows = stokes_bench.rows({"times": out, "peak_rss_mib": 1.0})
     assert [r["median_s"] for r in rows] == [v[0] for v in out.values()]
     assert "order 6, exact" in stokes_bench.format_rows(rows)
+
+
+@pytest.mark.parametrize("exact", [True, False])
+def test_pade_of_a_series_that_ends_is_the_series(exact):
+    """The height in ε is ε itself: Padé's system is singular, and the approximant is the polynomial."""
+    s = stokes_series(12, exact=exact)
+    x = np.array([0.0, 0.1, 0.3, 0.44])
+    np.testing.assert_allclose(s.pade("height", x, "epsilon"), x, rtol=1e-15, atol=0)
