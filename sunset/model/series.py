@@ -59,6 +59,19 @@ class SeriesWave(NamedTuple):
         return float(self.amplitudes[0])
 
 
+def _float_pade(g: np.ndarray, N: int) -> tuple[np.poly1d, np.poly1d]:
+    """The float64 diagonal approximant of degree N of ``g``; where its system is singular (a series
+    that ends, as the height in ε), the denominator's degree is lowered, as :func:`pade_exact` does."""
+    m = N // 2
+    while True:
+        try:
+            return pade_coefficients(g, m, N - m)
+        except np.linalg.LinAlgError:
+            if m == 0:          # pragma: no cover - the system of m = 0 is the identity
+                raise
+            m -= 1
+
+
 class StokesSeries:
     """Stokes' expansion to a given order (from ``sunset.stokes_series``).
 
@@ -241,15 +254,7 @@ class StokesSeries:
         N = len(g) - 1
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            m = N // 2
-            while True:     # a singular system (a series that ends, as the height in ε): lower q's degree
-                try:
-                    p, q = pade_coefficients(g, m, N - m)
-                    break
-                except np.linalg.LinAlgError:
-                    if m == 0:                       # pragma: no cover - the m = 0 system is the identity
-                        raise
-                    m -= 1
+            p, q = _float_pade(g, N)
         t = X**stride / scale
         return X**shift * p(t) / q(t)
 
