@@ -35,9 +35,9 @@ from ..model.sun import Sun
 from ..vector.direct import IslandPass, island_key, island_pass, islands_alone, sea_depth, sea_strip
 from ..vector.frame import Frame
 from ..vector.reflect import trace_sea_rays
-from .codes import CODE_STRIP_PIXELS, CodeMap, code_map, dither, encode, encode_pixels
+from .codes import CodeMap, code_map, dither, encode, encode_pixels
 
-__all__ = ["CyclePass", "cycle_pass", "still_key", "code_sea", "encode_sea", "encode_sea_rows"]
+__all__ = ["CyclePass", "cycle_pass", "still_key", "code_sea", "encode_sea_rows"]
 
 
 @dataclass(frozen=True)
@@ -134,25 +134,6 @@ def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> 
 
 #: Pixels in a strip of :func:`code_sea` at most: its arrays (about 80 bytes a pixel) stay in a core's cache.
 SEA_STRIP_PIXELS = 1 << 15
-
-
-def encode_sea(scene, frame: Frame, still: CyclePass) -> np.ndarray:
-    """Code a frame of the cycle: its sea pixels from their final rays and ``still``'s dither, the others from
-    ``still.codes``.
-
-    ``frame`` is :func:`code_sea`'s (its final fields traced on the sea
-    pixels). Strip by strip of rows on all threads, as :func:`sunset.tape.codes.encode`.
-    """
-    H, W = frame.shape
-    codes = np.empty((H, W), np.uint8)
-    sun, cmap = scene.sun, code_map(scene)
-
-    def rows(r0: int, r1: int) -> None:
-        encode_sea_rows(codes[r0:r1], frame.rows(r0, r1), still.codes[r0:r1], still.u[r0:r1], still.v[r0:r1],
-                        sun, cmap)
-
-    run_strips(rows, strips(H, max(1, CODE_STRIP_PIXELS // W)))
-    return codes
 
 
 @twin("sunset.tape.codes_numba")

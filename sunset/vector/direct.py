@@ -25,7 +25,7 @@ from .budget import check_work
 from .heightfield import sampling, sea_columns, sea_gradient_on_scanlines
 from .island_samples import islands_scan, probe_refinement
 
-__all__ = ["trace_direct", "trace_sea", "sea_depth", "sea_strip", "islands_alone", "sea_geometry", "IslandPass",
+__all__ = ["trace_direct", "sea_depth", "sea_strip", "islands_alone", "sea_geometry", "IslandPass",
            "island_key", "island_pass", "assemble_geometry", "put_unit_normals", "put_sea_normals", "put_island_normals"]
 
 _F32 = np.float32
@@ -198,70 +198,42 @@ def _depth_buffer(scene, t: float, refine_islands: bool, islands: IslandPass | N
     return best_u, best_surf, s_all, zeta, counts
 
 
-def trace_sea(scene, t: float, islands: IslandPass, direction) -> Frame:
-    """The direct rays of a frame of a wave cycle's 8-bit tape, only as far as its sea pixels' reflections need them.
-
-    The depth buffer as :func:`trace_direct` makes it (the islands' pass
-    ``islands``, the sea merged in: :func:`sea_depth`); then ``surface``
-    everywhere and, on the sea pixels alone, ``point`` and ``normal``
-    (:func:`sea_geometry`), the same bits as :func:`trace_direct`'s there.
-    ``direction`` (H, W, 3) float32 is :func:`trace_direct`'s, which does not
-    change with time (:func:`islands_alone`): it is the frame's, not copied.
-    ``point`` and ``normal`` are left unset off the sea, and ``part`` and
-    ``distance`` are None: the frame is for
-    :func:`sunset.vector.reflect.trace_reflections` and the codes of the sea
-    pixels (:mod:`sunset.tape.still`), not for reading. :func:`sea_strip`
-    makes some rows of it on their own.
-    """
-    require_finite("t", t)
-    t = float(t)
-    depth = sea_depth(scene, t, islands)
-    W, H = depth[0].shape
-    surface = np.empty((H, W), np.int8)
-    point = np.empty((H, W, 3), _F32)
-    normal = np.empty((H, W, 3), _F32)
-
-    def rows(r0: int, r1: int) -> None:
-        _sea_rows(scene, t, depth, r0, r1, surface[r0:r1], point[r0:r1], normal[r0:r1])
-
-    run_strips(rows, row_strips(H, W))
-    return Frame(t=t, reflections=0, direction=direction, surface=surface, part=None, distance=None, point=point,
-                 normal=normal)
-
-
 def sea_depth(scene, t: float, islands: IslandPass) -> tuple:
     """The depth buffer of a frame of a wave cycle at ``t``: the islands' pass ``islands`` with the sea merged in.
 
     (best_u, best_surf (W, H) by scan line, s_all (W,), zeta (H,) bottom up), as :func:`trace_direct` makes them;
     for :func:`sea_strip`.
     """
+    require_finite("t", t)
     best_u, best_surf, s_all, zeta, _ = _depth_buffer(scene, float(t), True, islands, {"sea": 0.0, "islands": 0.0})
     return best_u, best_surf, s_all, zeta
 
 
 def sea_strip(scene, t: float, depth: tuple, direction, r0: int, r1: int) -> Frame:
-    """The rows ``r0:r1`` of :func:`trace_sea`'s frame, in arrays of their own (``depth``: :func:`sea_depth`'s).
+    """The direct rays of the rows ``r0:r1`` (top down) of a wave cycle's frame, as far as its sea pixels need them.
 
-    The same bits as :func:`trace_sea`'s rows, made where a wave cycle's
-    frame is traced and coded strip by strip while the strip is in the cache
-    (:func:`sunset.tape.still.code_sea`); ``direction`` is the whole frame's.
+    From the frame's depth buffer ``depth`` (:func:`sea_depth`): ``surface``
+    everywhere and, on the sea pixels alone, ``point`` and ``normal``
+    (:func:`sea_geometry`), the same bits as :func:`trace_direct`'s there,
+    in arrays of the strip's own. ``direction`` (H, W, 3) float32 is
+    :func:`trace_direct`'s for the whole frame, which does not change with
+    time (:func:`islands_alone`): the strip's is a view of it. ``point`` and
+    ``normal`` are left unset off the sea, and ``part`` and ``distance`` are
+    None: the strip is for :func:`sunset.vector.reflect.trace_sea_rays` and
+    the codes of its sea pixels (:func:`sunset.tape.still.code_sea`, which
+    makes a frame strip by strip while each strip is in the cache).
     """
-    W = depth[0].shape[0]
+    best_u, best_surf, s_all, zeta = depth
+    W, H = best_u.shape
     n = r1 - r0
     surface = np.empty((n, W), np.int8)
     point = np.empty((n, W, 3), _F32)
     normal = np.empty((n, W, 3), _F32)
-    _sea_rows(scene, float(t), depth, r0, r1, surface, point, normal)
+    k0, k1 = H - r1, H - r0      # the rows' pixels, counted from the bottom
+    sea_geometry(best_u[:, k0:k1], best_surf[:, k0:k1], s_all, zeta[k0:k1], scene.sea, float(t), surface, point,
+                 normal)
     return Frame(t=float(t), reflections=0, direction=direction[r0:r1], surface=surface, part=None, distance=None,
                  point=point, normal=normal)
-
-
-def _sea_rows(scene, t: float, depth: tuple, r0: int, r1: int, surface, point, normal) -> None:
-    """:func:`sea_geometry` of the rows r0:r1 (top down) into their ``surface``, ``point`` and ``normal``."""
-    best_u, best_surf, s_all, zeta = depth
-    H = best_u.shape[1]
-    k0, k1 = H - r1, H - r0      # the rows' pixels, counted from the bottom
-    sea_geometry(best_u[:, k0:k1], best_surf[:, k0:k1], s_all, zeta[k0:k1], scene.sea, t, surface, point, normal)
 
 
 def islands_alone(scene, islands: IslandPass) -> Frame:

@@ -19,6 +19,7 @@ from sunset.model.waves import Sea
 from sunset.tape import codes, still
 from sunset.tape.cycle import code_frame
 from sunset.vector import direct
+from sunset.vector.frame import Frame
 from sunset.vector.reflect import trace_reflections
 from sunset.vector.render import render
 
@@ -88,22 +89,34 @@ def test_the_still_codes_are_the_frames_codes_where_the_sea_does_not_reach():
             a.flat[0] = 0
 
 
+def sea_strips(scene, t, cp, edges):
+    """The strips direct.sea_strip makes for the rows cut at ``edges``, and the whole frame they make together."""
+    depth = direct.sea_depth(scene, t, cp.islands)
+    parts = [direct.sea_strip(scene, t, depth, cp.direction, r0, r1) for r0, r1 in zip(edges[:-1], edges[1:])]
+    whole = Frame(t=t, reflections=0, direction=cp.direction, surface=np.concatenate([p.surface for p in parts]),
+                  part=None, distance=None, point=np.concatenate([p.point for p in parts]),
+                  normal=np.concatenate([p.normal for p in parts]))
+    return parts, whole
+
+
 @pytest.mark.parametrize("compiled", [False, True])
 def test_the_sea_pixels_direct_fields_are_trace_directs(compiled):
     scene = Scene.default().with_size(150, 110)
+    H = scene.camera.height
     with kernels.use_compiled(compiled):
         cp = still.cycle_pass(scene)
         for t in (0.0, 3.1):
             full = direct.trace_direct(scene, t)
-            for n in (1, 2, 3):
-                with kernels.use_threads(n):
-                    lean = direct.trace_sea(scene, t, cp.islands, cp.direction)
+            for edges in ([0, H], [0, 40, H], [0, 1, 57, 58, H]):
+                parts, lean = sea_strips(scene, t, cp, edges)
                 np.testing.assert_array_equal(lean.surface, full.surface)
                 sea = full.surface == SEA
                 assert sea.any() and not sea.all()
                 for name in ("point", "normal"):
                     assert getattr(lean, name)[sea].tobytes() == getattr(full, name)[sea].tobytes(), name
-                assert lean.direction is cp.direction and lean.part is None and lean.distance is None
+                for p, r0 in zip(parts, edges):
+                    assert np.shares_memory(p.direction, cp.direction) and p.part is None and p.distance is None
+                    np.testing.assert_array_equal(p.direction, cp.direction[r0:r0 + p.shape[0]])
 
 
 def depth_buffer(scene, t):
@@ -123,7 +136,7 @@ def test_the_compiled_sea_geometry_is_the_numpy_one(name):
         surface = np.full((H, W), 99, np.int8)
         point = np.full((H, W, 3), 7.0, np.float32)
         normal = np.full((H, W, 3), 7.0, np.float32)
-        for r0, r1 in zip(edges[:-1], edges[1:]):        # strips of rows, as trace_sea cuts them
+        for r0, r1 in zip(edges[:-1], edges[1:]):        # strips of rows, as code_sea cuts them
             k0, k1 = H - r1, H - r0
             fn(best_u[:, k0:k1], best_surf[:, k0:k1], s_all, zeta[k0:k1], scene.sea, 0.9, surface[r0:r1],
                point[r0:r1], normal[r0:r1])
@@ -137,7 +150,7 @@ def test_the_compiled_sea_geometry_is_the_numpy_one(name):
 
 
 def sea_frame(scene, t, mode, cp):
-    frame = direct.trace_sea(scene, t, cp.islands, cp.direction)
+    _, frame = sea_strips(scene, t, cp, [0, scene.camera.height])
     shape = frame.shape
     frame.bounces = np.zeros(shape, np.uint8)
     frame.ray = np.full(shape + (3,), np.nan, np.float32)
@@ -175,9 +188,10 @@ def test_an_unknown_island_part_on_the_sea_is_refused_on_both_paths():
     hit = (frame.surface == SEA) & (frame.final_surface >= 1)
     assert hit.any()
     frame.final_part[hit] = -3
+    out = np.empty(frame.shape, np.uint8)
     for compiled in (False, True):
         with kernels.use_compiled(compiled), pytest.raises(SunsetError, match="got -3"):
-            still.encode_sea(scene, frame, cp)
+            still.encode_sea_rows(out, frame, cp.codes, cp.u, cp.v, scene.sun, codes.code_map(scene))
 
 
 def test_a_cycle_pass_is_for_its_scene_and_seed():
