@@ -9,9 +9,10 @@ against pyproject.toml and environment.yml with ``packaging``:
 * every requirement of the environment is pinned, and every pin of it
   satisfies the requirement's specifier;
 * every pin is exact (``==``) and carries at least one sha256 hash;
-* the three locks agree: a package pinned in two of them has the same version
-  under the same environment marker (the runtime is a subset of the test
-  environment, which is a subset of the book's);
+* the three locks agree and nest: on every tested Python and platform, what
+  the runtime lock installs the test lock installs at the same version, and
+  what the test lock installs the book's does (markers are evaluated, not
+  compared as text);
 * every pin of a conda-listed package satisfies environment.yml too.
 """
 
@@ -118,14 +119,56 @@ def test_a_lock_that_does_not_satisfy_pyproject_is_caught():
     assert any(p.startswith("tqdm==") and "no sha256 hash" in p for p in problems(proj, unhashed, ("test",)))
 
 
+#: The platforms a lock is checked on: (sys_platform, platform_system, os_name, platform_machine).
+PLATFORMS = (("linux", "Linux", "posix", "x86_64"), ("linux", "Linux", "posix", "aarch64"),
+             ("darwin", "Darwin", "posix", "arm64"), ("win32", "Windows", "nt", "AMD64"))
+
+
+def installed(entries, python: str, platform: tuple[str, str, str, str]) -> dict[str, Version]:
+    """{name: version} that a lock installs with CPython ``python`` on ``platform`` (its markers evaluated)."""
+    sys_platform, system, os_name, machine = platform
+    env = {"python_version": python, "python_full_version": f"{python}.0", "sys_platform": sys_platform,
+           "platform_system": system, "os_name": os_name, "implementation_name": "cpython",
+           "platform_python_implementation": "CPython", "platform_machine": machine, "extra": ""}
+    return {n: v for n, v, m, _ in entries if m is None or m.evaluate(env)}
+
+
+def nesting_problems(small_text: str, big_text: str) -> list[str]:
+    """Where the smaller lock installs a package the bigger one does not, or another version of it.
+
+    Compared by what each lock installs on every tested Python and platform, so that the same
+    set written with different markers (uv widens a marker when a second dependent appears) agrees.
+    """
+    small, big = parse_lock(small_text), parse_lock(big_text)
+    out = []
+    for python in PYTHONS:
+        for platform in PLATFORMS:
+            a, b = installed(small, python, platform), installed(big, python, platform)
+            for name, version in sorted(a.items()):
+                if b.get(name) != version:
+                    out.append(f"{name}=={version} on Python {python}, {platform[0]}/{platform[3]}: "
+                               f"the bigger lock has {b.get(name)}")
+    return out
+
+
 def test_the_locks_agree_and_nest():
-    locks = {name: parse_lock(lock_path(name).read_text(encoding="utf-8")) for name in LOCKS}
-    pins = {name: {(n, str(m)): v for n, v, m, _ in entries} for name, entries in locks.items()}
     for small, big in (("runtime", "test"), ("test", "book")):
-        missing = sorted(set(pins[small]) - set(pins[big]))
-        assert not missing, f"{small}.lock pins what {big}.lock lacks: {missing}"
-        differ = sorted(k for k in pins[small] if pins[small][k] != pins[big][k])
-        assert not differ, f"{small}.lock and {big}.lock pin different versions: {differ}"
+        found = nesting_problems(lock_path(small).read_text(encoding="utf-8"),
+                                 lock_path(big).read_text(encoding="utf-8"))
+        assert not found, f"{small}.lock installs what {big}.lock does not:\n" + "\n".join(found[:20])
+
+
+def test_a_lock_that_does_not_nest_is_caught():
+    test_text = lock_path("test").read_text(encoding="utf-8")
+    book_text = lock_path("book").read_text(encoding="utf-8")
+    # another version of numpy in the smaller lock
+    bumped = re.sub(r"(?m)^numpy==[^\s;]+", "numpy==1.0.0", test_text)
+    assert bumped != test_text
+    assert any(p.startswith("numpy==1.0.0") for p in nesting_problems(bumped, book_text))
+    # a package the bigger lock leaves out on one platform only
+    narrowed = re.sub(r"(?m)^(tqdm==[^\s;]+)", r"\1 ; sys_platform != 'win32'", book_text)
+    assert narrowed != book_text
+    assert any(p.startswith("tqdm==") and "win32" in p for p in nesting_problems(test_text, narrowed))
 
 
 def test_locks_are_made_by_make_lock():
