@@ -89,6 +89,9 @@ figures: $(FIGURE_FILES)
 	$(if $(strip $(STALE_FIGURES)),$(SUNSET) figures --only $(subst $(space),$(comma),$(sort $(STALE_FIGURES))) --out figures $(FIGURE_FLAGS),@echo "make: figures/ is up to date")
 
 # ---------------------------------------------------------------- the book
+# Any source of the book or of the package makes the book out of date; build.py then
+# re-executes exactly the chapters whose code cells or imported modules changed
+# (book/chapter_deps.py) and takes the others from the execution cache.
 BOOK_SOURCES := $(wildcard book/*.md book/*.yml book/*.bib book/*.py book/images/* book/data/*) $(SOURCES)
 BOOK_STAMP   := book/_build/html/.stamp
 

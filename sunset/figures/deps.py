@@ -107,8 +107,16 @@ def _imports(name: str, top_level: bool = False) -> tuple[str, ...]:
     path = module_file(name)
     if path is None:
         return ()
+    return imports_in(ast.parse(path.read_text(encoding="utf-8"), str(path)), name, top_level)
+
+
+def imports_in(tree: ast.AST, name: str = "__main__", top_level: bool = False) -> tuple[str, ...]:
+    """Dotted names of the package modules that the parsed source ``tree`` of module ``name`` imports.
+
+    A name imported from a package that re-exports it is followed to its defining module
+    (:func:`_defining_module`). ``book/chapter_deps.py`` reads a chapter's code cells with it.
+    """
     out = []
-    tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
     for node in (tree.body if top_level else ast.walk(tree)):
         if isinstance(node, ast.Import):
             out += [a.name for a in node.names if a.name.split(".")[0] == "sunset"]
@@ -126,8 +134,27 @@ def _imports(name: str, top_level: bool = False) -> tuple[str, ...]:
 
 
 @functools.lru_cache(maxsize=None)
+def lazy_api(package: str) -> dict[str, str]:
+    """The names a package's ``__init__.py`` loads on first use (its ``_API`` table, PEP 562) -> their modules.
+
+    ``sunset/__init__.py`` imports its public names lazily, so ``from sunset import render`` names no
+    module in an ``import`` statement: the table says which one it loads.
+    """
+    path = module_file(package)
+    if path is None or path.name != "__init__.py":
+        return {}
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        target = node.target if isinstance(node, ast.AnnAssign) else (
+            node.targets[0] if isinstance(node, ast.Assign) and len(node.targets) == 1 else None)
+        if isinstance(target, ast.Name) and target.id == "_API" and node.value is not None:
+            table = ast.literal_eval(node.value)
+            return {name: package + module if module.startswith(".") else module for name, module in table.items()}
+    return {}
+
+
+@functools.lru_cache(maxsize=None)
 def _defining_module(package: str, name: str) -> str:
-    """The module that a package re-exports ``name`` from, or the package itself."""
+    """The module that a package re-exports (or lazily loads) ``name`` from, or the package itself."""
     path = module_file(package)
     if path is None or path.name != "__init__.py":
         return package
@@ -136,7 +163,7 @@ def _defining_module(package: str, name: str) -> str:
             target = _absolute(package, node)
             sub = f"{target}.{name}"
             return sub if module_file(sub) is not None else target
-    return package
+    return lazy_api(package).get(name, package)
 
 
 def closure(start: str, router: bool = False) -> set[str]:

@@ -52,3 +52,19 @@ def test_runs_with_the_standard_library_alone():
             f"runpy.run_path({str(ROOT / 'sunset/figures/deps.py')!r}, run_name='__main__')")
     out = subprocess.run([sys.executable, "-c", code, "figures"], capture_output=True, text=True, check=True).stdout
     assert out == rules("figures")
+
+
+def test_the_lazy_public_api_is_read_from_the_source_as_the_package_resolves_it():
+    """``from sunset import render`` names no module: the ``_API`` table says which one it loads."""
+    import importlib.util
+
+    import sunset
+    from sunset.figures.deps import _defining_module, lazy_api
+
+    expected = {name: importlib.util.resolve_name(module, "sunset") for name, module in sunset._API.items()}
+    assert lazy_api("sunset") == expected and expected
+    for name, module in expected.items():
+        assert getattr(sunset, name).__module__ == module           # where the running package finds it
+        assert _defining_module("sunset", name) == module
+    assert _defining_module("sunset", "__version__") == "sunset"    # set by the package itself
+    assert lazy_api("sunset.model") == {}                           # a package without a lazy table
