@@ -6,6 +6,7 @@ A scene file has four parts, each checked on load::
     [sun]             the sun's great circle and δ           (sunset.model.sun.Sun)
     [sea]             gravity (optional, m s⁻²; standard gravity by default)
     [[sea.trains]]    the wave trains of eq. 1               (sunset.model.waves.WaveTrain)
+    [sea.wind]        or a sea given by its wind (FFT tile)   (sunset.model.windsea.WindSea)
     [[islands]]       paraboloids and cosine hills, eqs. 3–4 (sunset.model.islands.Island)
                       with [islands.cliff], [islands.beach], [[islands.cosines]]
                       (a cosine's ``phase`` is optional, 0 by default)
@@ -39,6 +40,7 @@ from ..errors import SunsetError, shown
 from .islands import Cosine, Island, Paraboloid
 from .sun import Sun
 from .waves import Sea, WaveTrain
+from .windsea import WindSea
 
 #: Name of the default scene shipped with the package.
 DEFAULT_SCENE = "carlas-island"
@@ -269,7 +271,7 @@ _NESTED = {
     Scene: {"camera": Camera, "sun": Sun, "sea": Sea, "islands": Island, "clouds": Clouds, "posts": Post},
     Clouds: {"cells": CloudCell},
     CloudCell: {"billows": Billow},
-    Sea: {"trains": WaveTrain},
+    Sea: {"trains": WaveTrain, "wind": WindSea},
     Island: {"cliff": Paraboloid, "beach": Paraboloid, "cosines": Cosine},
 }
 
@@ -286,6 +288,7 @@ _OPTIONAL = {
     (WaveTrain, "phase"), (WaveTrain, "stokes_order"), (Island, "name"), (Island, "cosines"),
     (Scene, "clouds"), (CloudCell, "billows"), (Scene, "posts"), (Post, "albedo"),
     (Sea, "gravity"), (Cosine, "phase"),
+    (Sea, "wind"), (WindSea, "height"), (WindSea, "spreading"), (WindSea, "choppiness"),
 }
 
 #: Fields added after the file format's first version: written out only when
@@ -294,7 +297,7 @@ _OPTIONAL = {
 _WRITTEN_WHEN_SET = {(Sea, "gravity"), (Cosine, "phase")}
 
 #: Fields a scene file does not have: a train's gravity is its sea's.
-_NOT_IN_FILE = {(WaveTrain, "gravity")}
+_NOT_IN_FILE = {(WaveTrain, "gravity"), (WindSea, "gravity")}
 
 
 def _file_fields(cls) -> dict[str, dataclasses.Field]:

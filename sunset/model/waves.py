@@ -38,6 +38,7 @@ from ..constants import GRAVITY, MAX_DEGREES, MAX_PHASE, MAX_TRAINS, MAX_WAVE_SL
 from ..errors import (SunsetError, require_finite, require_int_range, require_nonnegative, require_positive,
                       require_range)
 from .stokes import stokes_coefficients
+from .windsea import NOT_YET_RENDERED, WindSea
 
 #: Largest denominator accepted when :attr:`Sea.period` looks for the rational
 #: ratios ω_j/ω_min of a repeating sea.
@@ -192,13 +193,26 @@ class Sea:
         g, m s⁻², of the deep-water dispersion ω = √(g k) of every train;
         standard gravity by default. Each train takes it: a train built with
         another non-default gravity is an error.
+    wind : WindSea or None
+        A sea given by its wind instead of trains (:mod:`sunset.model.windsea`):
+        its heights and slopes come from a periodic FFT tile. Not yet rendered:
+        :attr:`max_elevation`, which every render path asks first, refuses it.
     """
 
     trains: tuple[WaveTrain, ...] = field(default_factory=tuple)
     gravity: float = GRAVITY
+    wind: WindSea | None = None
 
     def __post_init__(self):
         require_positive("gravity", self.gravity)
+        if self.wind is not None:
+            if not isinstance(self.wind, WindSea):
+                raise SunsetError(f"wind must be a WindSea, got {self.wind!r}")
+            if self.trains:
+                raise SunsetError("wind: give the sea as trains or as a wind, not both")
+            if self.wind.gravity != self.gravity:
+                raise SunsetError(f"gravity must be standard gravity ({GRAVITY} m/s²) for a wind sea (its spectra "
+                                  f"are fits to Earth's oceans), got {self.gravity!r}")
         trains = tuple(self.trains)
         if len(trains) > MAX_TRAINS:
             raise SunsetError(f"trains must hold at most {MAX_TRAINS} entries, got {len(trains)}")
@@ -213,6 +227,8 @@ class Sea:
         object.__setattr__(self, "trains", trains)
 
     def __repr__(self) -> str:
+        if self.wind is not None:
+            return f"Sea({self.wind!r})"
         moving = [t for t in self.trains if t.amplitude > 0]
         if not moving:
             return "Sea(still)"
@@ -270,7 +286,13 @@ class Sea:
 
     @property
     def max_elevation(self) -> float:
-        """d = Σ_j Σ_n ``|a_jn|``: the most the sea can depart from its mean level, metres."""
+        """d = Σ_j Σ_n ``|a_jn|``: the most the sea can depart from its mean level, metres.
+
+        A wind sea raises :class:`SunsetError` (it is not yet rendered; its
+        tile's bound at a time t is ``sea.wind.tile.bound(t)``).
+        """
+        if self.wind is not None:
+            raise SunsetError(NOT_YET_RENDERED)
         return float(sum(t.max_elevation for t in self.trains))
 
     @property
@@ -281,7 +303,10 @@ class Sea:
         ω_min; then T = 2π Q / ω_min with Q the least common multiple of the
         denominators. For the trains of :meth:`periodic`, T = 2π/ω₁. None for
         a sea that never repeats; 0 for still water (every instant is the same).
+        A wind sea repeats after its ``cycle``.
         """
+        if self.wind is not None:
+            return self.wind.cycle
         moving = [t for t in self.trains if t.amplitude > 0]
         if not moving:
             return 0.0
@@ -312,6 +337,8 @@ class Sea:
             of ``x`` and ``y`` (float32 in, float32 out). NaN in, NaN out.
         """
         (x, y, t), dtype = _as_arrays(x, y, t)
+        if self.wind is not None:
+            return self._wind_sample(x, y, t, dtype)[0]
         out = np.zeros(np.broadcast_shapes(x.shape, y.shape, t.shape))
         for train in self.trains:
             l, m = train.wave_vector
@@ -328,6 +355,8 @@ class Sea:
         Shapes and dtypes as :meth:`elevation`.
         """
         (x, y, t), dtype = _as_arrays(x, y, t)
+        if self.wind is not None:
+            return self._wind_sample(x, y, t, dtype)[1:]
         shape = np.broadcast_shapes(x.shape, y.shape, t.shape)
         fx = np.zeros(shape)
         fy = np.zeros(shape)
@@ -341,6 +370,19 @@ class Sea:
             fx += l * slope
             fy += m * slope
         return fx.astype(dtype, copy=False), fy.astype(dtype, copy=False)
+
+    def _wind_sample(self, x, y, t, dtype):
+        """(z, z_x, z_y) of the wind sea's tile, one FFT per distinct time."""
+        shape = np.broadcast_shapes(x.shape, y.shape, t.shape)
+        x, y, t = (np.broadcast_to(a, shape) for a in (x, y, t))
+        out = [np.empty(shape), np.empty(shape), np.empty(shape)]
+        for tt in np.unique(t[np.isfinite(t)]) if t.size else ():
+            sel = t == tt
+            for o, v in zip(out, self.wind.sample(x[sel], y[sel], float(tt))):
+                o[sel] = v
+        for o in out:
+            o[~np.isfinite(t)] = np.nan
+        return tuple(o.astype(dtype, copy=False) for o in out)
 
     def normal(self, x, y, t=0.0):
         """Unit upward normal (x̄, ȳ, z̄), shape ``broadcast + (3,)``.
