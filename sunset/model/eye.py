@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from .. import kernels
 from ..constants import (EXPOSURE_FOLLOW, EXPOSURE_SUN_ELEVATION, EYE_RESPONSE_EXPONENT, EYE_SEMI_SATURATION,
                          SUN_TRUE_RADIUS)
 from .colorimetry import xyz_to_srgb
@@ -62,16 +63,25 @@ def to_uint8(enc: np.ndarray) -> np.ndarray:
 DECODE_LUT = srgb_decode(np.arange(256) / 255.0)
 
 
-@functools.lru_cache(maxsize=None)
 def reference_white() -> np.ndarray:
-    """XYZ of a white horizontal card in full sun at the reference elevation (sun + sky)."""
+    """XYZ of a white horizontal card in full sun at the reference elevation (sun + sky).
+
+    Kept once per process and path of :mod:`sunset.kernels` (the two paths' skies agree within a
+    tolerance, not to the bit, and a run's colours come from one of them).
+    """
+    return _reference_white(kernels.enabled())
+
+
+@functools.lru_cache(maxsize=None)
+def _reference_white(compiled: bool) -> np.ndarray:
     e = math.radians(EXPOSURE_SUN_ELEVATION)
     p = np.array([0.0, math.cos(e), math.sin(e)])
     direct, diffuse = island_lighting(p, SUN_TRUE_RADIUS)
-    return spectrum_to_xyz((direct * math.sin(e) + diffuse) / math.pi)
+    out = spectrum_to_xyz((direct * math.sin(e) + diffuse) / math.pi)
+    out.setflags(write=False)
+    return out
 
 
-@functools.lru_cache(maxsize=None)
 def film_white() -> tuple[float, float]:
     """CIE xy chromaticity the film is balanced for: daylight on a white card (sun at 30° plus sky)."""
     xyz = reference_white()

@@ -191,7 +191,7 @@ def sky_radiance(directions, sun_dir, n_view: int = _N_VIEW, n_sun: int = _N_SUN
         samples (a tabulated version of it makes many directions cheap,
         :func:`sunset.light.lighting.tabulated_columns`; only the NumPy
         reference takes one: its compiled twin, :mod:`sunset.model.sky_numba`,
-        integrates :func:`slant_columns` itself, with the same bits).
+        integrates :func:`slant_columns` itself, within a tolerance).
 
     Returns
     -------
@@ -294,7 +294,8 @@ def _upper_sky(sun_dir) -> np.ndarray:
 
     :func:`sky_dome` and :func:`island_lighting` both integrate it, often for
     the same sun (a cloudy frame's tables ask for both), so the last few are
-    kept, apart for each path of :mod:`sunset.kernels` (they agree bit for bit).
+    kept, apart for each path of :mod:`sunset.kernels` (they agree within a
+    tolerance, not to the bit).
     """
     p = np.asarray(sun_dir, dtype=float)
     if p.shape != (3,):

@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from .. import kernels
 from ..constants import HALO_STRENGTH
 from ..errors import SunsetError, require_finite
 from ..model.eye import exposure_key, film_response, srgb_encode, to_uint8
@@ -196,8 +197,14 @@ def _tables_linear(sun: Sun, hours: float, clouds: Clouds | None = None) -> tupl
     return out, sun_lin
 
 
-@functools.lru_cache(maxsize=4096)
 def _tables_cached(sun: Sun, hours: float, clouds: Clouds | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The 8-bit tables (3, 256) and the sun's colour, kept per path of :mod:`sunset.kernels` (which agree
+    within a tolerance, not to the bit)."""
+    return _tables_kept(sun, hours, clouds, kernels.enabled())
+
+
+@functools.lru_cache(maxsize=4096)
+def _tables_kept(sun: Sun, hours: float, clouds: Clouds | None, compiled: bool) -> tuple[np.ndarray, np.ndarray]:
     lin, sun_lin = _tables_linear(sun, hours, clouds)
     t = np.ascontiguousarray(to_uint8(srgb_encode(lin)).T)
     t.setflags(write=False)
