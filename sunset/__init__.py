@@ -14,6 +14,7 @@ and everything at once, for a notebook (a packaged scene's name works
 wherever a scene does; ``sunset.scene_names()`` lists them)::
 
     rgb = sunset.picture("storm-swell", t=0.0, hours=1.0, size=(400, 400))
+    sunset.explore("storm-swell")             # sliders that re-render it (the explore extra)
 """
 
 from importlib import metadata as _metadata
@@ -37,7 +38,7 @@ _API = {
     "Island": ".model.islands", "Paraboloid": ".model.islands", "Scene": ".model.scene",
     "default_scene": ".model.scene", "render": ".vector.render", "solve_stokes": ".model.stokes_exact",
     "Sun": ".model.sun", "Sea": ".model.waves", "WaveTrain": ".model.waves", "scene_names": ".model.scene",
-    "picture": ".pictures", "stokes_series": ".model.series",
+    "picture": ".pictures", "stokes_series": ".model.series", "explore": ".explorer",
 }
 
 
@@ -56,6 +57,6 @@ def __dir__():
 
 __all__ = [
     "Camera", "Cosine", "Frame", "Island", "Paraboloid", "Scene", "Sea", "Sun",
-    "SunsetError", "WaveTrain", "default_scene", "encode", "expose", "make_film", "picture", "render",
+    "SunsetError", "WaveTrain", "default_scene", "encode", "explore", "expose", "make_film", "picture", "render",
     "scene_names", "solve_stokes", "stokes_series", "__version__",
 ]

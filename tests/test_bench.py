@@ -20,7 +20,8 @@ from sunset.model.scene import Scene
 def report(tmp_path_factory):
     out = tmp_path_factory.mktemp("bench") / "bench.json"
     rep = bench.run_benchmark(out, repeats=1, brute_size=12, frame_sizes=((36, 30),), cycle_size=(24, 20),
-                              cycle_frames=2, scaling=False, profile=True, memory_sizes=(40, 64))
+                              cycle_frames=2, scaling=False, profile=True, memory_sizes=(40, 64),
+                              explorer_size=(32, 24))
     return out, rep
 
 
@@ -34,6 +35,8 @@ def test_json_holds_every_measurement(report):
     assert "Figure 6 frame 36x30, NumPy kernels" in whats
     assert "Figure 6 frame 36x30, one thread" in whats
     assert "2-frame cycle 24x20" in whats
+    explorer = {r["stage"] for r in data["rows"] if r["what"] == "explorer update 32x24"}
+    assert explorer == {"time (8-bit)", "sun's azimuth (8-bit)", "hours (8-bit)", "time (RGB)"}
     frame = {r["stage"]: r for r in data["rows"] if r["what"] == "Figure 6 frame 36x30"}
     assert set(bench.STAGES) | {"vector stage", "total", "cpu time"} == set(frame)
     cycle = {r["stage"] for r in data["rows"] if r["what"] == "2-frame cycle 24x20"}

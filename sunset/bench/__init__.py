@@ -28,6 +28,8 @@ be shared: the ratios in one run are what to read). And Stokes' series by
 computer, exact and in float64 (:mod:`sunset.bench.series`). And the RGB
 back end (:mod:`sunset.bench.rgb`): re-shading a stored frame, the light of
 an hour, and a 4-sample frame, split into its vector stage and the back end.
+And the explorer (:mod:`sunset.bench.explorer`): one update of
+:func:`sunset.explore`'s 512 × 512 picture per kind of slider.
 """
 
 from __future__ import annotations
@@ -49,6 +51,7 @@ from ..constants import CRAY1_SECONDS_FIGURE6
 from ..kernels import keep_freed_memory
 from . import extra
 from .extra import timed
+from . import explorer as explorer_bench
 from . import rgb as rgb_bench
 from . import series as stokes_bench
 
@@ -247,7 +250,7 @@ def _function_name(file: str, name: str) -> str:
 MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
                 "scaling": _measure_scaling, "profile": _measure_profile, "rgb": rgb_bench.measure_rgb,
                 "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits,
-                "series": stokes_bench.measure_series}
+                "series": stokes_bench.measure_series, "explorer": explorer_bench.measure_explorer}
 
 
 def _child(args) -> None:
@@ -331,7 +334,8 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
                   frame_sizes=FRAME_SIZES, cycle_size=CYCLE_SIZE, cycle_frames: int = CYCLE_FRAMES,
                   numpy_reference: bool = True, scaling: bool = True, profile: bool = True,
                   rgb: bool = True, memory_sizes=extra.MEMORY_SIZES, film_look: bool = True,
-                  povray: bool = True, series: bool = False, figures: bool = False) -> dict:
+                  povray: bool = True, series: bool = False, figures: bool = False,
+                  explorer_size=explorer_bench.EXPLORER_SIZE) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
@@ -366,6 +370,12 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         res = measure("rgb", w, h, repeats)
         for stage, times in res["times"].items():
             rows.append(_row(f"RGB {w}x{h}", stage, times, w * h, res))
+    if explorer_size:
+        w, h = explorer_size
+        log(f"the explorer's updates at {w}x{h} ...")
+        res = measure("explorer", w, h, repeats)
+        for stage, times in res["times"].items():
+            rows.append(_row(f"explorer update {w}x{h}", stage, times, w * h, res))
     if cycle:
         w, h = cycle_size
         log(f"{cycle_frames}-frame wave cycle, coded and filmed, at {w}x{h} ...")
