@@ -29,8 +29,9 @@ shading. What each control changes in the scene:
     Turns the eye to the right (degrees, clockwise seen from above). The
     renderer looks along +y, so the world turns the other way about the eye
     instead (:func:`turned`): every island, post, wave train and the sun's
-    circle turn by −heading. A scene with clouds cannot turn (its cloud cells
-    are ellipses along x and y): its heading stays 0.
+    circle turn by −heading. A scene with clouds or a wind sea cannot turn
+    (its cloud cells are ellipses along x and y, the wind sea's tile a lattice
+    along them): its heading stays 0.
 ``hours``, ``t``, ``reflections``, ``shading``, ``seed``
     Not the scene's: the hours before sunset of the colour tables (or the
     RGB back end's light), the sea's time in seconds, the reflection mode
@@ -53,7 +54,6 @@ from ..model.camera import Camera
 from ..model.islands import Island, Paraboloid
 from ..model.scene import Scene, SceneLike, as_scene
 from ..model.sun import require_hours
-from ..model.waves import Sea
 
 __all__ = ["SHADINGS", "TrainControl", "View", "Start", "scene_for", "turned", "pitched", "rung_of", "pitch_of"]
 
@@ -172,7 +172,7 @@ def scene_for(start: Start, view: View) -> Scene:
         except SunsetError as exc:
             raise _field(f"sea.trains[{i}].", exc) from None
     if trains != list(scene.sea.trains):
-        scene = replace(scene, sea=Sea(tuple(trains), scene.sea.gravity))
+        scene = replace(scene, sea=replace(scene.sea, trains=tuple(trains)))
     camera = scene.camera
     if view.eye_height != base.eye_height:
         try:
@@ -221,6 +221,9 @@ def turned(scene: Scene, heading: float) -> Scene:
     if scene.clouds is not None:
         raise SunsetError("heading: a scene with clouds cannot turn (its cloud cells are ellipses along x and y); "
                           "set heading to 0")
+    if getattr(scene.sea, "wind", None) is not None:
+        raise SunsetError("heading: a scene with a wind sea cannot turn (its tile's lattice lies along x and y); "
+                          "set heading to 0")
     a = math.radians(heading)
     c, s = math.cos(a), math.sin(a)
 
@@ -246,7 +249,7 @@ def turned(scene: Scene, heading: float) -> Scene:
     posts = tuple(replace(p, x=xy[0], y=xy[1]) for p in scene.posts for xy in [rot(p.x, p.y)])
     trains = tuple(replace(tr, direction=_angle(tr.direction + heading)) for tr in scene.sea.trains)
     try:
-        return replace(scene, islands=islands, posts=posts, sea=Sea(trains, scene.sea.gravity),
+        return replace(scene, islands=islands, posts=posts, sea=replace(scene.sea, trains=trains),
                        sun=replace(scene.sun, azimuth=_angle(scene.sun.azimuth - heading)))
     except SunsetError as exc:
         raise SunsetError(f"heading: {exc}") from None

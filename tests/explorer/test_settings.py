@@ -135,6 +135,16 @@ def test_heading_turns_posts_and_is_refused_with_clouds():
     cloudy = sunset.Scene.named("carlas-island-clouds")
     with pytest.raises(SunsetError, match="^heading: a scene with clouds cannot turn"):
         turned(cloudy, 5.0)
+    data = sunset.Scene.named("carlas-island").to_dict()
+    data["sea"] = {"wind": {"speed": 7.0, "direction": 260.0, "fetch": float("inf"), "seed": 1, "tile_points": 64,
+                            "tile_size": 128.0, "cycle": 64.0}}
+    windy = sunset.Scene.from_dict(data)
+    with pytest.raises(SunsetError, match="^heading: a scene with a wind sea cannot turn"):
+        turned(windy, 5.0)
+    # the other controls keep the wind sea
+    start = Start.of(windy, size=(16, 16))
+    assert start.view.trains == () and start.fundamental == 0.0
+    assert scene_for(start, replace(start.view, eye_height=3.0)).sea == windy.sea
 
 
 @pytest.mark.parametrize("change, message", [
