@@ -167,3 +167,22 @@ def test_figures_are_timed_in_fresh_processes_outside_the_users_folder(tmp_path,
     assert len(res["runs_s"]) == len(res["cpu_s"]) == 2      # the warm-up run is not counted
     assert res["median_s"] == statistics.median(res["runs_s"])
     assert all(c > 0 for c in res["cpu_s"]) and res["cores"] >= 1
+
+
+def test_the_wind_sea_rows():
+    """The tile's rows (sunset/bench/ocean.py): every size and count measured, and the direct sum is the FFT's sea."""
+    from sunset.bench import ocean
+
+    res = ocean.measure_ocean(0, 0, 2, sizes=(64,), components=(4, 64), direct=(4,), samples=1000)
+    assert set(res) == {"build N=64", "instant N=64", "components 4, FFT", "components 4, direct sum",
+                        "components 64, FFT", "sample 1000 points"}
+    assert all(len(v) == 2 and min(v) > 0 for v in res.values())
+    rows = ocean.rows({"times": res, "peak_rss_mib": 1.0})
+    assert rows[0]["what"] == "wind-sea tile, build N=64" and rows[0]["median_s"] == statistics.median(res["build N=64"])
+    sea = ocean._sea(256)
+    from sunset.model.ocean import OceanTile
+
+    tile = OceanTile(ocean._keep(sea.amplitudes, 64), sea.tile_size, sea.cycle)
+    assert np.count_nonzero(tile.h0) == 64
+    xs = np.arange(256) * tile.spacing
+    np.testing.assert_allclose(ocean._direct(tile, xs, 1.5), tile.fields(1.5)["z"], atol=1e-12)

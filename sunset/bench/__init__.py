@@ -25,7 +25,9 @@ broken), the film's encoder settings against the old ones (time and PSNR),
 POV-Ray on the exported scene at the frame's size when ``povray`` is
 installed, and the machine's load average before and after (the machine may
 be shared: the ratios in one run are what to read). And Stokes' series by
-computer, exact and in float64 (:mod:`sunset.bench.series`). And the RGB
+computer, exact and in float64 (:mod:`sunset.bench.series`). And the wind
+sea's FFT tile against its size and its number of components
+(:mod:`sunset.bench.ocean`). And the RGB
 back end (:mod:`sunset.bench.rgb`): re-shading a stored frame, the light of
 an hour, and a 4-sample frame, split into its vector stage and the back end.
 And the explorer (:mod:`sunset.bench.explorer`): one update of
@@ -52,6 +54,7 @@ from ..kernels import keep_freed_memory
 from . import extra
 from .extra import timed
 from . import explorer as explorer_bench
+from . import ocean as ocean_bench
 from . import rgb as rgb_bench
 from . import series as stokes_bench
 
@@ -250,7 +253,8 @@ def _function_name(file: str, name: str) -> str:
 MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
                 "scaling": _measure_scaling, "profile": _measure_profile, "rgb": rgb_bench.measure_rgb,
                 "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits,
-                "series": stokes_bench.measure_series, "explorer": explorer_bench.measure_explorer}
+                "series": stokes_bench.measure_series, "explorer": explorer_bench.measure_explorer,
+                "ocean": ocean_bench.measure_ocean}
 
 
 def _child(args) -> None:
@@ -335,7 +339,7 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
                   numpy_reference: bool = True, scaling: bool = True, profile: bool = True,
                   rgb: bool = True, memory_sizes=extra.MEMORY_SIZES, film_look: bool = True,
                   povray: bool = True, series: bool = False, figures: bool = False,
-                  explorer_size=explorer_bench.EXPLORER_SIZE) -> dict:
+                  explorer_size=explorer_bench.EXPLORER_SIZE, ocean: bool = False) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
@@ -420,12 +424,16 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     if series:
         log("Stokes' series by computer, exact and float64 ...")
         report["series"] = stokes_bench.rows(measure("series", 0, 0, repeats))
+    if ocean:
+        log("the wind sea's FFT tile: sizes, component counts, sampling ...")
+        report["ocean"] = ocean_bench.rows(measure("ocean", 0, 0, repeats))
     if figures:
         log(f"sunset figures, every figure and the film, {extra.FIGURES_RUNS} runs ...")
         report["figures"] = extra.measure_figures()
     mach["load_after"] = _load()
     print(format_table(rows))
     print(stokes_bench.format_rows(report.get("series", [])))
+    print(ocean_bench.format_rows(report.get("ocean", [])))
     for m in report["memory"]["sizes"]:
         print(f"memory of one frame at {m['width']}x{m['height']}: {m['bytes_per_pixel']:.1f} bytes/pixel "
               f"(bound {extra.BYTES_PER_PIXEL_BOUND})")
@@ -486,7 +494,7 @@ def main(argv=None) -> int:
         return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     report = run_benchmark(args.out, args.repeats, args.brute_size, cycle=not args.no_cycle,
-                           povray=not args.no_povray, series=True, figures=not args.no_figures)
+                           povray=not args.no_povray, series=True, figures=not args.no_figures, ocean=True)
     if not report["memory"]["ok"]:
         print(f"sunset.bench: FAILED: one frame needs more than {extra.BYTES_PER_PIXEL_BOUND} bytes per pixel",
               file=sys.stderr)

@@ -113,19 +113,22 @@ class OceanTile:
         self.mask = resolved_mask(n)
         self.h0 = np.where(self.mask, h0, 0.0).astype(complex)
         self.h0_minus = np.conj(np.roll(self.h0[::-1, ::-1], 1, axis=(0, 1)))     # conj(h₀(−k))
+        # [max-lattice] ω bent onto the multiples n ω₀ of ω₀ = 2π/T
         self.true_omega = np.sqrt(self.gravity * self.k)
-        self.harmonic = np.where(self.mask, np.maximum(1, np.rint(self.true_omega / self.omega0)), 0).astype(np.int64)
+        n = np.maximum(1, np.rint(self.true_omega / self.omega0))
+        self.harmonic = np.where(self.mask, n, 0).astype(np.int64)
         self.omega = self.harmonic * self.omega0
+        # [max-lattice-end]
         self._cache: tuple[float, dict] | None = None
 
     # -- the spectrum in time -------------------------------------------------------
     def phase(self, t: float) -> np.ndarray:
-        """ω(k) (t mod T), radians: the only way time enters (so z(t + T) = z(t))."""
+        """ω(k) (t mod T), radians: how time enters (so z(t + T) = z(t))."""
         tau = math.fmod(float(t), self.cycle)
         return self.omega * tau
 
     def amplitudes(self, t: float) -> np.ndarray:
-        """ẑ(k, t) = h₀(k) e^{−iωt} + conj(h₀(−k)) e^{iωt}, (N, N) complex, Hermitian."""
+        """ẑ(k, t) = h₀(k) e^{−iωt} + conj(h₀(−k)) e^{iωt}, (N, N), Hermitian."""
         if not math.isfinite(float(t)):
             raise SunsetError(f"t must be a finite time in seconds, got {t!r}")
         p = self.phase(t)

@@ -185,11 +185,11 @@ class WindSpectrum:
         w = np.asarray(omega, dtype=float)
         g, wp = self.gravity, self.peak_frequency
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-            r4 = (wp / w) ** 4
-            s = self.alpha * g * g * w ** -5.0 * np.exp(-1.25 * r4)
-            if not self.fully_developed:
+            s = self.alpha * g * g * w ** -5.0 * np.exp(-1.25 * (wp / w) ** 4)
+            if not self.fully_developed:               # JONSWAP's peak enhancement
                 sigma = np.where(w <= wp, JONSWAP_SIGMA_LOW, JONSWAP_SIGMA_HIGH)
-                s = s * JONSWAP_GAMMA ** np.exp(-((w - wp) ** 2) / (2.0 * sigma ** 2 * wp ** 2))
+                r = np.exp(-((w - wp) ** 2) / (2.0 * sigma ** 2 * wp ** 2))
+                s = s * JONSWAP_GAMMA ** r
         return np.where(w > 0, s, 0.0)
 
     def body(self, k):
@@ -207,12 +207,12 @@ class WindSpectrum:
 
     @property
     def alpha_m(self) -> float:
-        """ECKV's short-wave α_m from u*/c_m (eq. 44), never negative."""
+        """ECKV's short-wave α_m from u*/c_m, never negative."""
         r = self.friction_velocity / ECKV_CM
         return max(0.0, 1e-2 * (1.0 + (1.0 if r <= 1.0 else 3.0) * math.log(r)))
 
     def eckv_curvature(self, k):
-        """(B_l, B_h): ECKV's long- and short-wave curvature spectra k³ S, at this sea's Ω and k_p."""
+        """(B_l, B_h): ECKV's long- and short-wave curvature spectra, k³ S."""
         k = np.asarray(k, dtype=float)
         om, kp = self.inverse_wave_age, self.peak_wavenumber
         c, cp = self.phase_speed(k), math.sqrt(self.gravity / kp)
@@ -221,8 +221,10 @@ class WindSpectrum:
         root = np.sqrt(k / kp)
         lpm = np.exp(-1.25 * (kp / k) ** 2)
         jp = gamma ** np.exp(-((root - 1.0) ** 2) / (2.0 * sigma ** 2))
-        b_l = 0.5 * 6e-3 * om ** 0.55 * (cp / c) * lpm * jp * np.exp(-(om / math.sqrt(10.0)) * (root - 1.0))
-        b_h = 0.5 * self.alpha_m * (ECKV_CM / c) * lpm * np.exp(-0.25 * (k / ECKV_KM - 1.0) ** 2)
+        side = np.exp(-(om / math.sqrt(10.0)) * (root - 1.0))
+        b_l = 0.5 * 6e-3 * om ** 0.55 * (cp / c) * lpm * jp * side
+        gc = np.exp(-0.25 * (k / ECKV_KM - 1.0) ** 2)
+        b_h = 0.5 * self.alpha_m * (ECKV_CM / c) * lpm * gc
         return b_l, b_h
 
     def join_weight(self, k):
@@ -235,8 +237,8 @@ class WindSpectrum:
         if np.any(np.isnan(k)) or np.any(k < 0):
             raise SunsetError("k must be non-negative wavenumbers (rad/m)")
         safe = np.where(k > 0, k, 1.0)
-        b_l, b_h = self.eckv_curvature(safe)
-        w = self.join_weight(safe)
+        b_l, b_h = self.eckv_curvature(safe)       # Elfouhaily et al.'s B_l, B_h
+        w = self.join_weight(safe)                 # 1/(1 + (k/4k_p)⁴)
         s = w * self.body(safe) + (1.0 - w) * (b_l + b_h) / safe ** 3
         return np.where(k > 0, s, 0.0)
 

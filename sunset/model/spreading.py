@@ -11,7 +11,7 @@ wavenumber plane (∫∫ Ψ k dk dφ = m₀). Two spreading functions:
   the fit was never measured).
 * ``"elfouhaily"``: D = (1 + Δ(k) cos 2φ)/(2π), Δ = tanh(a₀ + a_p (c/c_p)^2.5 +
   a_m (c_m/c)^2.5), a₀ = ln 2/4, a_p = 4, a_m = 0.13 u*/c_m (Elfouhaily et
-  al. 1997, eqs. 57–59), built with Cox and Munk's upwind/crosswind ratio.
+  al. 1997), built with Cox and Munk's upwind/crosswind ratio.
   It is centrosymmetric (it describes a snapshot); the tile folds it onto the
   downwind half, D(φ) + D(φ + π) for |φ| < 90°, so that its waves run
   downwind. Folding leaves every second moment of the heights and slopes as it was.

@@ -135,8 +135,9 @@ class WindSea:
     @functools.cached_property
     def amplitudes(self) -> np.ndarray:
         """h₀(k), (N, N) complex, m: complex Gaussian with E|h₀|² = ½ Ψ Δk²."""
-        xi = self._draws()
-        return np.sqrt(0.5 * self.component_variance) * (xi[..., 0] + 1j * xi[..., 1]) / math.sqrt(2.0)
+        xi = self._draws()                          # standard normal pairs
+        gauss = (xi[..., 0] + 1j * xi[..., 1]) / math.sqrt(2.0)   # E|gauss|² = 1
+        return np.sqrt(0.5 * self.component_variance) * gauss
 
     @functools.cached_property
     def tile(self) -> OceanTile:

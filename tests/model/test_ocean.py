@@ -182,7 +182,7 @@ def test_choppy_is_gerstners_trochoid_for_one_component():
 
 def test_choppy_gives_stokes_second_harmonic_for_one_component():
     # to second order in ka the trochoid is a cos θ + ½ka² cos 2θ − ½ka²: Stokes' second harmonic,
-    # with the Eulerian mean lowered by ½ka² (Lamb 1932, §251)
+    # with the Eulerian mean lowered by ½ka² (expand z(X) of the trochoid to second order)
     a, m = 0.2, 2
     k = 2 * math.pi * m / L                                                    # ka ≈ 0.04
     tile = one_component(n=64, m=(m, 0), amp=a, phase=0.0, choppiness=1.0, oversample=4)
