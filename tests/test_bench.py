@@ -47,6 +47,22 @@ def test_json_holds_every_measurement(report):
     assert data["profile"] and all(0 <= p["share"] <= 1 for p in data["profile"])
 
 
+def test_colour_science_is_timed_once_per_fresh_process(report):
+    """The colour rows: colour-science's import and the first spectra (which include it), wall and CPU."""
+    from sunset.bench.colour import STAGES
+
+    _, rep = report
+    rows = {r["stage"]: r for r in rep["rows"] if r["what"] == "colour-science, once per process"}
+    assert set(rows) == set(STAGES)
+    for r in rows.values():
+        assert len(r["runs_s"]) == len(r["runs_cpu_s"]) == rep["repeats"]
+        assert r["median_cpu_s"] == statistics.median(r["runs_cpu_s"]) and r["median_cpu_s"] > 0
+    for i in range(rep["repeats"]):
+        assert rows["first spectra"]["runs_s"][i] >= rows["import colour"]["runs_s"][i]
+        assert rows["first spectra"]["runs_cpu_s"][i] >= rows["import colour"]["runs_cpu_s"][i]
+    assert "colour-science, once per process" in bench.format_table(rep["rows"])
+
+
 def test_stages_add_up_and_ratios_follow(report):
     _, rep = report
     rows = [r for r in rep["rows"] if r["what"] == "Figure 6 frame 36x30"]

@@ -32,6 +32,7 @@ back end (:mod:`sunset.bench.rgb`): re-shading a stored frame, the light of
 an hour, and a 4-sample frame, split into its vector stage and the back end.
 And the explorer (:mod:`sunset.bench.explorer`): one update of
 :func:`sunset.explore`'s 512 × 512 picture per kind of slider.
+And what colour-science costs a process, once (:mod:`sunset.bench.colour`).
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ from . import extra
 from .extra import timed
 from . import explorer as explorer_bench
 from . import ocean as ocean_bench
+from . import colour as colour_bench
 from . import rgb as rgb_bench
 from . import series as stokes_bench
 
@@ -386,6 +388,13 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         res = _measure_cycle_child(w, h, repeats, cycle_frames)
         for stage, times in res["times"].items():
             rows.append(_row(f"{cycle_frames}-frame cycle {w}x{h}", stage, times, cycle_frames * w * h, res))
+
+    log("colour-science's import, once per process ...")
+    for stage, times in colour_bench.measure_colour_import(repeats).items():
+        rows.append({"what": "colour-science, once per process", "stage": stage,
+                     "median_s": statistics.median(times["wall"]), "runs_s": times["wall"],
+                     "median_cpu_s": statistics.median(times["cpu"]), "runs_cpu_s": times["cpu"], "pixels": 0,
+                     "peak_rss_mib": times["peak_rss_mib"]})
 
     for r in rows:
         figure6 = "Figure 6" in r["what"] and r["stage"] in ("total", "vector stage")

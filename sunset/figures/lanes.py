@@ -19,11 +19,10 @@ nothing (:func:`sunset.figures._make_all` lands the files only when both lanes
 are done, and an error in either lane, or Ctrl-C, lands nothing; a lane that
 sees the other has failed takes no more units). The second process is forked
 as soon as the run starts: what both lanes then load for themselves (matplotlib,
-the compiled kernels) is loaded by the two at once, on both cores, where loading
-it before the fork would keep the other core idle for as long (the lanes end
-together, so the run is shorter by half of it). Neither imports colour-science
-(some 0.4 s of CPU each): :mod:`sunset.model.colorimetry` holds what they take
-from it. Where processes cannot be forked safely (no ``fork``, or Python 3.12+
+colour-science, the compiled kernels) is loaded by the two at once, on both
+cores, where loading it before the fork would keep the other core idle for as
+long (the lanes end together, so the run is shorter by half of it). Where
+processes cannot be forked safely (no ``fork``, or Python 3.12+
 with threads running) the run keeps one lane.
 """
 

@@ -15,9 +15,9 @@ Two 256-colour versions of one RGB frame are compared with it:
   could be exposed through at this hour.
 
 The colour error is CIEDE2000 (ΔE₀₀, colour-science's ``delta_E``, sRGB →
-XYZ → CIE L*a*b* under D65, as :mod:`sunset.model.colorimetry` writes them
-out, the same bits): ΔE₀₀ ≈ 1 is about a just-noticeable difference, above
-2–3 a difference anyone sees side by side.
+XYZ → CIE L*a*b* under D65, all three colour-science's, imported when the
+first difference is computed): ΔE₀₀ ≈ 1 is about a just-noticeable
+difference, above 2–3 a difference anyone sees side by side.
 """
 
 from __future__ import annotations
@@ -115,7 +115,9 @@ def delta_e_2000(rgb8_a: np.ndarray, rgb8_b: np.ndarray) -> np.ndarray:
     Computed once per distinct pair of colours (a frame repeats its colours
     many times) and spread back over the pixels.
     """
-    from ..model.colorimetry import delta_e_2000 as ciede2000, srgb_to_xyz, xyz_to_lab
+    import colour
+
+    d65 = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
 
     a = np.asarray(rgb8_a, np.uint8)
     b = np.asarray(rgb8_b, np.uint8)
@@ -124,9 +126,10 @@ def delta_e_2000(rgb8_a: np.ndarray, rgb8_b: np.ndarray) -> np.ndarray:
     keys, inverse = np.unique(pairs, return_inverse=True)
 
     def lab(rgb8):
-        return xyz_to_lab(srgb_to_xyz(rgb8 / 255.0))     # decodes the sRGB curve, D65
+        return colour.XYZ_to_Lab(colour.sRGB_to_XYZ(rgb8 / 255.0), d65)     # decodes the sRGB curve, D65
 
-    de = np.asarray(ciede2000(lab(_unpack(keys >> 24)), lab(_unpack(keys & 0xFFFFFF))), dtype=float)
+    de = np.asarray(colour.delta_E(lab(_unpack(keys >> 24)), lab(_unpack(keys & 0xFFFFFF)), method="CIE 2000"),
+                    dtype=float)
     return de[inverse.reshape(-1)].reshape(shape)
 
 

@@ -31,17 +31,18 @@ decode_srgb = srgb_decode
 def xyz_to_rgb_matrix() -> np.ndarray:
     """M (3, 3) with linear sRGB = XYZ @ M: colour-science's XYZ → sRGB, CAT02 from the film's white to D65.
 
-    The transform is linear, so its matrix is its image of the unit vectors (computed without importing
-    colour-science: :func:`sunset.model.colorimetry.xyz_to_srgb`, the same bits).
+    The transform is linear, so its matrix is its image of the unit vectors.
     """
     return _xyz_to_rgb_matrix(film_white())
 
 
 @functools.lru_cache(maxsize=8)
 def _xyz_to_rgb_matrix(white: tuple[float, float]) -> np.ndarray:
-    from ..model.colorimetry import xyz_to_srgb
+    import colour
 
-    m = np.asarray(xyz_to_srgb(np.eye(3), white), dtype=float)
+    m = colour.XYZ_to_sRGB(np.eye(3), illuminant=white, chromatic_adaptation_transform="CAT02",
+                           apply_cctf_encoding=False)
+    m = np.array(m, dtype=float)
     m.setflags(write=False)
     return m
 

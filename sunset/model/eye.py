@@ -20,7 +20,6 @@ import numpy as np
 from .. import kernels
 from ..constants import (EXPOSURE_FOLLOW, EXPOSURE_SUN_ELEVATION, EYE_RESPONSE_EXPONENT, EYE_SEMI_SATURATION,
                          SUN_TRUE_RADIUS)
-from .colorimetry import xyz_to_srgb
 from .sky import island_lighting, sky_radiance, spectral_data
 
 __all__ = [
@@ -32,10 +31,12 @@ __all__ = [
 def xyz_to_linear_srgb(xyz: np.ndarray) -> np.ndarray:
     """CIE XYZ → linear sRGB, adapted (CAT02) from the film's white (:func:`film_white`) to D65.
 
-    colour-science's ``XYZ_to_sRGB`` with that white, without importing it
-    (:func:`sunset.model.colorimetry.xyz_to_srgb`: the same bits).
+    colour-science's ``XYZ_to_sRGB`` with that white.
     """
-    return xyz_to_srgb(xyz, film_white())
+    import colour
+
+    return colour.XYZ_to_sRGB(xyz, illuminant=film_white(), chromatic_adaptation_transform="CAT02",
+                              apply_cctf_encoding=False)
 
 
 def spectrum_to_xyz(spec: np.ndarray) -> np.ndarray:

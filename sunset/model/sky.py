@@ -31,7 +31,7 @@ import numpy as np
 from ..constants import (AEROSOL_ALBEDO, AEROSOL_ANGSTROM_ALPHA, AEROSOL_ANGSTROM_BETA, AEROSOL_ASYMMETRY,
                          AEROSOL_SCALE_HEIGHT, ATMOSPHERE_TOP, DOBSON_UNIT, EARTH_RADIUS, ISLAND_NORMAL_SAMPLES,
                          OZONE_COLUMN_DU, OZONE_CROSS_SECTION, OZONE_CROSS_SECTION_NM, OZONE_HALF_WIDTH,
-                         OZONE_LAYER_ALTITUDE, OZONE_PEAK_ALTITUDE, RAYLEIGH_SCALE_HEIGHT,
+                         OZONE_LAYER_ALTITUDE, OZONE_PEAK_ALTITUDE, RAYLEIGH_SCALE_HEIGHT, SUN_TEMPERATURE,
                          WATER_REFRACTIVE_INDEX)
 from .. import kernels
 from ..kernels import twin
@@ -66,20 +66,26 @@ def spectral_data() -> SimpleNamespace:
     vertical optical depths from sea level of the molecules (Rayleigh), the
     aerosol and the ozone, and ``reflectance`` (a dict: hill, cliff, beach).
 
-    The spectra are colour-science's (the CIE 1931 CMFs, a blackbody at
+    The spectra are colour-science's, imported here (once per process, the
+    first time colour is computed): the CIE 1931 CMFs, a blackbody at
     :data:`~sunset.constants.SUN_TEMPERATURE`, the Rayleigh optical depth of
-    ``colour.phenomena.rayleigh_optical_depth``, the ColorChecker's foliage and
-    dark skin, TCS02), stored in :mod:`sunset.model.colorimetry` as the exact
-    floats colour-science computes, so that a run need not import it.
+    ``colour.phenomena.rayleigh_optical_depth``, the ColorChecker's foliage
+    and dark skin, TCS02.
     """
-    from .colorimetry import spectra
+    import colour
+    from colour.quality.datasets import SDS_TCS
 
-    s = spectra()
-    lam = np.array(s["wavelengths"])
-    cmfs = np.stack([s["cmf_x"], s["cmf_y"], s["cmf_z"]], axis=1)
-    sun = s["blackbody"]
-    refl = {"hill": s["foliage"], "cliff": s["dark_skin"], "beach": s["tcs02"]}
-    tau_r = s["rayleigh"]
+    shape = colour.SpectralShape(380, 780, 10)
+    lam = np.asarray(shape.wavelengths, dtype=float)
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(shape).values
+    sun = colour.sd_blackbody(SUN_TEMPERATURE, shape).values
+    checker = colour.SDS_COLOURCHECKERS["ColorChecker N Ohta"]
+    refl = {
+        "hill": checker["foliage"].copy().align(shape).values,
+        "cliff": checker["dark skin"].copy().align(shape).values,
+        "beach": SDS_TCS["CIE 1995"]["TCS02"].copy().align(shape).values,
+    }
+    tau_r = np.asarray(colour.phenomena.rayleigh_optical_depth(lam * 1e-7), dtype=float)
     tau_a = AEROSOL_ANGSTROM_BETA * (lam / 1000.0) ** (-AEROSOL_ANGSTROM_ALPHA)
     o3 = np.interp(lam, OZONE_CROSS_SECTION_NM, OZONE_CROSS_SECTION)
     tau_o = OZONE_COLUMN_DU * DOBSON_UNIT * o3

@@ -14,13 +14,26 @@ def test_delta_e_2000_of_identical_images_is_zero():
     np.testing.assert_allclose(delta_e_2000(img, img), 0.0, atol=1e-9)
 
 
-def test_delta_e_2000_matches_sharma_for_one_pair():
-    """Sharma, Wu & Dalal (2005), pair 1: Lab (50, 2.6772, −79.7751) vs (50, 0, −82.7485): ΔE₀₀ = 2.0425."""
+#: Sharma, Wu & Dalal (2005), Table 1: pairs of CIE L*a*b* and their ΔE₀₀, four decimals (pairs 1–4, 7, 8,
+#: 17–20, 25, 26, 34: the hue's wrap, greys, large differences and a dark pair).
+SHARMA = [((50, 2.6772, -79.7751), (50, 0, -82.7485), 2.0425), ((50, 3.1571, -77.2803), (50, 0, -82.7485), 2.8615),
+          ((50, 2.8361, -74.0200), (50, 0, -82.7485), 3.4412), ((50, -1.3802, -84.2814), (50, 0, -82.7485), 1.0000),
+          ((50, 0, 0), (50, -1, 2), 2.3669), ((50, -1, 2), (50, 0, 0), 2.3669),
+          ((50, 2.5, 0), (73, 25, -18), 27.1492), ((50, 2.5, 0), (61, -5, 29), 22.8977),
+          ((50, 2.5, 0), (56, -27, -3), 31.9030), ((50, 2.5, 0), (58, 24, 15), 19.4535),
+          ((60.2574, -34.0099, 36.2677), (60.4626, -34.1751, 39.4387), 1.2644),
+          ((63.0109, -31.0961, -5.8663), (62.8187, -29.7946, -4.0864), 1.2630),
+          ((2.0776, 0.0795, -1.1350), (0.9033, -0.0636, -0.5514), 0.9082)]
+
+
+def test_delta_e_2000_is_sharmas():
+    """The ΔE₀₀ the 8-bit test takes (colour-science's) against Sharma's published pairs; black against white
+    through the sRGB path is 100 (L* 0 against 100, no chroma)."""
     import colour
 
-    assert colour.delta_E([50, 2.6772, -79.7751], [50, 0, -82.7485], method="CIE 2000") == pytest.approx(2.0425,
-                                                                                                          abs=1e-4)
-    # and our sRGB path: black against white is about 100
+    a = np.array([p[0] for p in SHARMA], float)
+    b = np.array([p[1] for p in SHARMA], float)
+    np.testing.assert_allclose(colour.delta_E(a, b, method="CIE 2000"), [p[2] for p in SHARMA], atol=5e-5)
     assert delta_e_2000(np.zeros((1, 1, 3), np.uint8), np.full((1, 1, 3), 255, np.uint8))[0, 0] == \
         pytest.approx(100.0, abs=0.1)
 

@@ -159,3 +159,47 @@ def test_island_normals_keep_the_code_angle_and_face_up():
     np.testing.assert_allclose(np.cos(got - psi[:, None]), 1.0, atol=1e-9)
     np.testing.assert_allclose(w.sum(axis=1), 1.0)
     assert np.all(n[..., 2][w > 0] > 0)
+
+
+# --------------------------------------------------------------------------- the spectra, from colour-science
+def test_the_spectra_are_the_published_ones():
+    """colour-science's spectra (imported by spectral_data) against the sources, computed or read here.
+
+    The sun: Planck's law at 5778 K with CODATA's second radiation constant (colour-science takes ITS-90's
+    1.4388e-2 m K: 3e-5 apart); the CMFs: the CIE 1931 2° table at 450, 550 and 600 nm; the Rayleigh depth:
+    Bodhaine et al.'s (1999) fit, their eq. 30 (for 360 ppm of CO₂ where colour-science takes 300: 0.1 % apart).
+    """
+    from sunset.constants import SUN_TEMPERATURE
+
+    sp = spectral_data()
+    lam = sp.wavelengths * 1e-9
+    planck = lam**-5 / np.expm1(1.438776877e-2 / (lam * SUN_TEMPERATURE))
+    np.testing.assert_allclose(sp.sun, planck / planck.mean(), rtol=4e-5)
+    at = {450: (0.33620, 0.038000, 1.772110), 550: (0.433450, 0.994950, 0.008750), 600: (1.062200, 0.631000, 0.000800)}
+    for nm, xyz in at.items():
+        np.testing.assert_allclose(sp.cmfs[sp.wavelengths == nm][0], xyz, atol=1e-6)
+    um = sp.wavelengths / 1000.0
+    fit = 0.0021520 * (1.0455996 - 341.29061 * um**-2 - 0.90230850 * um**2) / (1 + 0.0027059889 * um**-2
+                                                                                 - 85.968563 * um**2)
+    np.testing.assert_allclose(sp.tau[0], fit, rtol=1.5e-3)
+    assert np.all((0.0 <= sp.reflectance["hill"]) & (sp.reflectance["hill"] <= 1.0))
+    assert sp.reflectance["hill"][sp.wavelengths == 550] > sp.reflectance["hill"][sp.wavelengths == 450]  # green
+
+
+def _colour_modules_after(code: str) -> list[str]:
+    """The colour-science modules loaded in a fresh Python once it has run ``code``."""
+    import subprocess
+    import sys
+
+    code += "\nimport sys\nprint(*sorted(m for m in sys.modules if m == 'colour' or m.startswith('colour.')))\n"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=600)
+    return out.stdout.split()
+
+
+def test_colour_science_is_imported_where_colour_is_computed_not_before():
+    """``import sunset`` and the vector stage to the tape do not import colour-science; the colour tables do."""
+    assert _colour_modules_after("import sunset") == []
+    assert _colour_modules_after("import sunset\ns = sunset.Scene.default().with_size(32, 24)\n"
+                                 "sunset.encode(s, sunset.render(s, 0.0))") == []
+    assert "colour" in _colour_modules_after("import sunset\nfrom sunset.recorder.colour_tables import tables\n"
+                                             "tables(sunset.Scene.default().sun, 0.35)")
