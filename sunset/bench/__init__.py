@@ -32,7 +32,6 @@ back end (:mod:`sunset.bench.rgb`): re-shading a stored frame, the light of
 an hour, and a 4-sample frame, split into its vector stage and the back end.
 And the explorer (:mod:`sunset.bench.explorer`): one update of
 :func:`sunset.explore`'s 512 × 512 picture per kind of slider.
-And what colour-science costs a process, once (:mod:`sunset.bench.colour`).
 """
 
 from __future__ import annotations
@@ -389,12 +388,7 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         for stage, times in res["times"].items():
             rows.append(_row(f"{cycle_frames}-frame cycle {w}x{h}", stage, times, cycle_frames * w * h, res))
 
-    log("colour-science's import, once per process ...")
-    for stage, times in colour_bench.measure_colour_import(repeats).items():
-        rows.append({"what": "colour-science, once per process", "stage": stage,
-                     "median_s": statistics.median(times["wall"]), "runs_s": times["wall"],
-                     "median_cpu_s": statistics.median(times["cpu"]), "runs_cpu_s": times["cpu"], "pixels": 0,
-                     "peak_rss_mib": times["peak_rss_mib"]})
+    rows += colour_bench.rows(repeats, log)
 
     for r in rows:
         figure6 = "Figure 6" in r["what"] and r["stage"] in ("total", "vector stage")

@@ -12,10 +12,14 @@ grid), wall-clock and CPU seconds.
 from __future__ import annotations
 
 import json
+import statistics
 import subprocess
 import sys
 
-__all__ = ["measure_colour_import", "STAGES"]
+__all__ = ["measure_colour_import", "rows", "STAGES", "WHAT"]
+
+#: The rows' name in the table and the JSON.
+WHAT = "colour-science, once per process"
 
 #: The two stages timed, as they appear in the table.
 STAGES = ("import colour", "first spectra")
@@ -50,3 +54,11 @@ def measure_colour_import(repeats: int) -> dict:
                 out[stage]["cpu"].append(res["cpu"][j])
                 out[stage]["peak_rss_mib"] = max(out[stage]["peak_rss_mib"], res["peak_rss_mib"])
     return out
+
+
+def rows(repeats: int, log=lambda msg: None) -> list[dict]:
+    """The benchmark's rows (:data:`WHAT`, one per stage): median and runs, wall-clock and CPU, peak memory."""
+    log("colour-science's import, once per process ...")
+    return [{"what": WHAT, "stage": stage, "median_s": statistics.median(t["wall"]), "runs_s": t["wall"],
+             "median_cpu_s": statistics.median(t["cpu"]), "runs_cpu_s": t["cpu"], "pixels": 0,
+             "peak_rss_mib": t["peak_rss_mib"]} for stage, t in measure_colour_import(repeats).items()]
