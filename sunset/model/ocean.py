@@ -113,12 +113,12 @@ class OceanTile:
         self.mask = resolved_mask(n)
         self.h0 = np.where(self.mask, h0, 0.0).astype(complex)
         self.h0_minus = np.conj(np.roll(self.h0[::-1, ::-1], 1, axis=(0, 1)))     # conj(h₀(−k))
-        # [max-lattice] ω bent onto the multiples n ω₀ of ω₀ = 2π/T
+        # max-lattice-begin: ω bent onto the multiples n ω₀ of ω₀ = 2π/T
         self.true_omega = np.sqrt(self.gravity * self.k)
         n = np.maximum(1, np.rint(self.true_omega / self.omega0))
         self.harmonic = np.where(self.mask, n, 0).astype(np.int64)
         self.omega = self.harmonic * self.omega0
-        # [max-lattice-end]
+        # max-lattice-end
         self._cache: tuple[float, dict] | None = None
 
     # -- the spectrum in time -------------------------------------------------------
@@ -184,6 +184,7 @@ class OceanTile:
 
     # -- evaluation anywhere --------------------------------------------------------
     def _bilinear(self, grids, x, y):
+        """Each of ``grids`` interpolated bilinearly, periodically, at (x, y)."""
         u = np.asarray(x, dtype=float) / self.spacing
         v = np.asarray(y, dtype=float) / self.spacing
         u, v = np.broadcast_arrays(u, v)
@@ -193,8 +194,10 @@ class OceanTile:
         i0 = np.mod(i0, m).astype(np.intp)
         j0 = np.mod(j0, m).astype(np.intp)
         i1, j1 = (i0 + 1) % m, (j0 + 1) % m
-        w00, w01, w10, w11 = (1 - fv) * (1 - fu), (1 - fv) * fu, fv * (1 - fu), fv * fu
-        return [w00 * g[i0, j0] + w01 * g[i0, j1] + w10 * g[i1, j0] + w11 * g[i1, j1] for g in grids]
+        w00, w01 = (1 - fv) * (1 - fu), (1 - fv) * fu
+        w10, w11 = fv * (1 - fu), fv * fu
+        return [w00 * g[i0, j0] + w01 * g[i0, j1]
+                + w10 * g[i1, j0] + w11 * g[i1, j1] for g in grids]
 
     def sample(self, x, y, t: float):
         """(z, ∂z/∂x, ∂z/∂y) at points (x, y) (metres, any broadcast shape) at time t.

@@ -76,11 +76,12 @@ class Wind:
         """u*, m s⁻¹: the fixed point of u* = κU/ln(z/z₀(u*))."""
         u = KARMAN * self.speed / math.log(self.height / 1e-4)
         for _ in range(200):
-            new = KARMAN * self.speed / math.log(self.height / roughness_length(u, self.gravity))
+            z0 = roughness_length(u, self.gravity)
+            new = KARMAN * self.speed / math.log(self.height / z0)
             if abs(new - u) <= 1e-15 * new:
                 return new
             u = new
-        return u                                  # pragma: no cover - the iteration contracts fast
+        return u                      # pragma: no cover - it contracts fast
 
     @property
     def roughness(self) -> float:
