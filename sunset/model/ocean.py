@@ -153,8 +153,10 @@ class OceanTile:
     def fields(self, t: float) -> dict[str, np.ndarray]:
         """The grid at time t: ``z``, ``zx``, ``zy`` (and ``dx``, ``dy``, ``dxx``, ``dxy``, ``dyy`` if choppy).
 
-        Each (M, M) float64 with M = oversample·N, [i, j] at (x, y) = (j, i) L/M. The last time's
-        fields are kept, so a strip after a strip at one t costs no FFT.
+        Each (M, M) float64 with M = oversample·N, [i, j] at (x, y) = (j, i) L/M.
+        The last time's fields are kept (replaced whole, so threads that sample
+        strips at one t share them safely), so a strip after a strip at one t
+        costs no FFT.
         """
         t = float(t)
         if self._cache is not None and self._cache[0] == t:

@@ -19,6 +19,18 @@ so that the tile's expected height variance is Σ Ψ Δk² over its lattice: the
 spectrum's integral over what the tile resolves. The amplitudes are drawn
 shell by shell (max(|m|, |n|) = 1, 2, …), so a finer tile of the same L and
 seed keeps the same long waves and only adds shorter ones.
+
+What a renderer uses (the vector stage's integration, to come):
+
+* ``sea.wind.sample(x, y, t)``: (z, ∂z/∂x, ∂z/∂y) at a strip of scene points
+  (any shape), bilinear from the tile's FFT grids (errors:
+  ``tile.interpolation_error()``); one FFT per new t, then cached;
+* ``sea.wind.tile.bound(t)``: max |z| of the sea at t, exact for the
+  interpolated sea (``tile.bound_all_times``: a loose bound for every t);
+* ``tile.size``, ``tile.n``, ``tile.spacing``, ``tile.cycle`` (L, N, L/N, T),
+  and ``make_tile(oversample)`` for finer grids;
+* ``unresolved_slopes()`` with :func:`sunset.model.coxmunk.facet_density`:
+  the facets below the grid, for the RGB back end's glitter.
 """
 
 from __future__ import annotations
@@ -29,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import GRAVITY
+from ..constants import GRAVITY, MAX_DEGREES
 from ..errors import SunsetError, require_int_range, require_range
 from .ocean import MAX_POINTS, MIN_POINTS, OceanTile, lattice, resolved_mask
 from .spectrum import MAX_FETCH, MIN_FETCH, WindSpectrum, check_gravity, fetch_text
@@ -67,7 +79,7 @@ class WindSea:
     def __post_init__(self):
         require_range("speed", self.speed, MIN_WIND, MAX_WIND, "m/s")
         require_range("height", self.height, MIN_HEIGHT, MAX_HEIGHT, "m")
-        require_range("direction", self.direction, -3600.0, 3600.0, "degrees")
+        require_range("direction", self.direction, -MAX_DEGREES, MAX_DEGREES, "degrees")
         if not (isinstance(self.fetch, (int, float)) and self.fetch == math.inf):
             require_range("fetch", self.fetch, MIN_FETCH, MAX_FETCH, "m (or inf: fully developed)")
         require_int_range("seed", self.seed, 0, MAX_SEED)
