@@ -25,10 +25,8 @@ broken), the film's encoder settings against the old ones (time and PSNR),
 POV-Ray on the exported scene at the frame's size when ``povray`` is
 installed, and the machine's load average before and after (the machine may
 be shared: the ratios in one run are what to read). And Stokes' series by
-computer, exact and in float64 (:mod:`sunset.bench.series`). And the wind
-sea's FFT tile against its size and its number of components
-(:mod:`sunset.bench.ocean`). And the RGB
-back end (:mod:`sunset.bench.rgb`): re-shading a stored frame, the light of
+computer, exact and in float64 (:mod:`sunset.bench.series`), and the wind
+sea's FFT tile (:mod:`sunset.bench.ocean`). And the RGB back end (:mod:`sunset.bench.rgb`): re-shading a stored frame, the light of
 an hour, and a 4-sample frame, split into its vector stage and the back end.
 And the explorer (:mod:`sunset.bench.explorer`): one update of
 :func:`sunset.explore`'s 512 × 512 picture per kind of slider.
@@ -55,6 +53,7 @@ from . import extra
 from .extra import timed
 from . import explorer as explorer_bench
 from . import ocean as ocean_bench
+from .profile import _function_name, _measure_profile  # noqa: F401 (the profile's row; tests use the name)
 from . import colour as colour_bench
 from . import rgb as rgb_bench
 from . import series as stokes_bench
@@ -213,42 +212,6 @@ def _measure_scaling(width: int, height: int, repeats: int) -> dict:
         out["islands"]["seconds"].append(
             _vector_stage_seconds(replace(sc, islands=_scaled_islands(sc.islands, n)), repeats))
     return {"scaling": out}
-
-
-def _measure_profile(width: int, height: int, repeats: int) -> dict:
-    """cProfile of ``repeats`` frames: the functions with the most time of their own."""
-    import cProfile
-    import pstats
-
-    from ..model.scene import Scene
-
-    scene = Scene.default().with_size(width, height)
-    _frame_once(scene)
-    prof = cProfile.Profile()
-    prof.enable()
-    for _ in range(repeats):
-        _frame_once(scene)
-    prof.disable()
-    stats = pstats.Stats(prof).stats
-    total = sum(v[2] for v in stats.values())
-    rows = []
-    for (file, line, name), (_cc, _nc, tottime, cumtime, _callers) in stats.items():
-        rows.append({"function": _function_name(file, name), "own_s": tottime / repeats, "share": tottime / total})
-    rows.sort(key=lambda r: -r["own_s"])
-    return {"profile": rows[:15], "profile_total_s": total / repeats}
-
-
-def _function_name(file: str, name: str) -> str:
-    """A readable name for a cProfile entry: ``module.py:function``, or the NumPy method / built-in."""
-    import re
-
-    if file.startswith(("/", ".")):
-        return f"{Path(file).name}:{name}"
-    m = re.match(r"<method '(\w+)' of '([\w.]+)' objects>", name)
-    if m:
-        return f"{m.group(2)}.{m.group(1)}"
-    m = re.match(r"<built-in method ([\w.]+)>", name)
-    return m.group(1) if m else name
 
 
 MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
