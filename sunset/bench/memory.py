@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["measure_bytes_per_pixel", "measure_rgb_bytes"]
+__all__ = ["measure_bytes_per_pixel", "measure_rgb_bytes", "measure_command_peak"]
 
 
 def measure_bytes_per_pixel(scene, sizes=((100, 80), (300, 240)), compiled: bool = False) -> float:
@@ -87,3 +87,82 @@ def measure_rgb_bytes(scene, samples: int = 4, sizes=((100, 80), (200, 160))) ->
             peaks.append(_traced_peak(lambda: frame(s, light)))
     (w0, h0), (w1, h1) = sizes
     return light_peak, (peaks[1] - peaks[0]) / ((w1 * h1 - w0 * h0) * samples)
+
+
+# --------------------------------------------------------------------------- the peak of a whole command, measured
+def measure_command_peak(scene, args=(), compiled: bool | None = None, threads: int | None = None,
+                         timeout: float = 600.0) -> dict:
+    """The resident memory of ``sunset render`` on ``scene``, measured in a fresh process: the interpreter's, the work's.
+
+    A fresh Python (started through ``/bin/sh``, which forks it: a process
+    started straight from a large one inherits that one's peak in its
+    ``ru_maxrss``) renders an 8 × 8 frame of the scene with the same options
+    (``args``, e.g. ``["--shading", "rgb"]``), so that the kernels, the
+    tables and the thread pool are loaded; its peak resident memory then
+    (``resource.getrusage(...).ru_maxrss``) is the interpreter's own. It then
+    forks, and the child renders the scene at its size: the child's
+    ``ru_maxrss`` starts at what it holds at the fork, and its growth during
+    the render is the work's peak. ``compiled`` sets ``SUNSET_COMPILED``,
+    ``threads`` ``SUNSET_THREADS`` (default: the environment's). Returns
+    ``{"rc", "interpreter", "work", "seconds", "stderr"}`` (bytes, the exit
+    status of the render).
+    """
+    import json
+    import os
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    env = dict(os.environ)
+    if compiled is not None:
+        env["SUNSET_COMPILED"] = "1" if compiled else "0"
+    if threads is not None:
+        env["SUNSET_THREADS"] = str(threads)
+    with tempfile.TemporaryDirectory(prefix="sunset-peak-") as tmp:
+        path = Path(tmp) / "scene.toml"
+        path.write_text(scene.to_toml(), encoding="utf-8")
+        cam = scene.camera
+        cmd = ["/bin/sh", "-c", '"$@"; exit $?', "sh", sys.executable, "-c",
+               "import sys; from sunset.bench.memory import _peak_child; _peak_child(sys.argv[1:])",
+               str(path), f"{cam.width}x{cam.height}", tmp, *map(str, args)]
+        done = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout)
+    lines = done.stdout.strip().splitlines()
+    if done.returncode or not lines:
+        raise RuntimeError(f"the measuring process failed ({done.returncode}): {done.stderr[-2000:]}")
+    return {**json.loads(lines[-1]), "stderr": done.stderr}
+
+
+def _peak_child(argv) -> None:
+    """In the measuring process: warm up, then render in a forked child; print one JSON line (see above)."""
+    import json
+    import os
+    import resource
+    import time
+
+    from ..cli import main
+
+    scene, size, tmp, *args = argv
+
+    def maxrss() -> int:
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+    main(["render", scene, "--size", "8x8", "-o", os.path.join(tmp, "warm.png"), "-q", *args])
+    interpreter = maxrss()
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:                                   # pragma: no cover - the child reports through the pipe
+        try:
+            os.close(read)
+            base = maxrss()
+            start = time.perf_counter()
+            rc = main(["render", scene, "--size", size, "-o", os.path.join(tmp, "frame.png"), "-q", *args])
+            seconds = time.perf_counter() - start
+            os.write(write, json.dumps({"rc": rc, "work": maxrss() - base, "seconds": seconds}).encode())
+        finally:
+            os._exit(0)
+    os.close(write)
+    with os.fdopen(read, "rb") as fh:
+        report = json.loads(fh.read() or b"{}")
+    os.waitpid(pid, 0)
+    print(json.dumps({"interpreter": interpreter, **report}))

@@ -84,8 +84,8 @@ def island_pass(scene, refine_islands: bool = True) -> IslandPass:
     s_all = cam.s_centres()
     u = np.zeros((W, H))                 # 1/yp of the nearest island, 0: none
     code = np.full((W, H), SKY, dtype=np.int8)
-    probes = [probe_refinement(island, s_all, samp, d) for island in scene.islands]
     budget = ISLAND_SAMPLE_BUDGET * max(samp.n, H)
+    probes = [probe_refinement(island, s_all, samp, d, budget) for island in scene.islands]
 
     def work(c0: int, c1: int) -> int:
         return islands_scan(scene.islands, probes, s_all, c0, c1, samp, d, cam.eye_height, zeta0, dz, H, cam.sigma,
@@ -93,7 +93,10 @@ def island_pass(scene, refine_islands: bool = True) -> IslandPass:
 
     samples = 0
     if any(m0 is not None for m0 in probes):
-        samples = sum(run_strips(work, strips(W, _chunk_columns(samp, W))))
+        # compiled, one scan line at a time: no bound on the strips; the reference pads a strip's scan lines
+        # to its longest (at most 2 budget samples each, see probe_refinement)
+        most = None if enabled() and compiled_trig() else max(1, SCANLINE_CHUNK_ELEMENTS // budget)
+        samples = sum(run_strips(work, strips(W, most)))
     return IslandPass(key=island_key(scene, refine_islands), u=u, code=code, samples=samples, probe=probes)
 
 

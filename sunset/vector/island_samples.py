@@ -76,17 +76,27 @@ def _island_profile_flat(island, s_rows, uu, h: float):
     return (hgt.astype(_F32) - _F32(h)) * uu.astype(_F32)
 
 
-def probe_refinement(island, s, samp: Sampling, d: float) -> int | None:
+def probe_refinement(island, s, samp: Sampling, d: float, most: int | None = None) -> int | float | None:
     """Refinement m0 of the sea's lattice that puts ISLAND_PROBE_SAMPLES across the widest chord.
 
-    None when no scan line meets the island's bounding ellipses.
+    None when no scan line meets the island's bounding ellipses. With
+    ``most`` (the scan line's budget of samples), a chord wider than ``most``
+    of the sea's samples is probed on a coarser lattice: m0 = 1/2ᵖ, the
+    sea's step times the smallest power of two that leaves at most ``most``
+    probe samples on every scan line (a window a sliver tall has a sea step
+    so fine that the islands' chords would span millions of its samples).
+    A power of two, so that du/m0 is the exact multiple of du, the same in
+    both kernels; the paper's lattice (``refine_islands=False``) is coarsened
+    the same way (``min(m0, 1)``).
     """
     y0, y1 = island.chord(s, d)
     ok = np.isfinite(y0) & (y1 > samp.y_clip)
     if not ok.any():
         return None
-    width = (1.0 / np.maximum(y0[ok], samp.y_clip) - 1.0 / y1[ok]) / samp.du  # in sea samples
-    m0 = int(math.ceil(ISLAND_PROBE_SAMPLES / max(float(width.max()), 1e-12)))
+    width = float(((1.0 / np.maximum(y0[ok], samp.y_clip) - 1.0 / y1[ok]) / samp.du).max())  # in sea samples
+    if most is not None and width + 3 > most:         # chord ends, the lattice between and a rounding to spare
+        return 0.5 ** math.ceil(math.log2(width / max(most - 3, 1)))
+    m0 = int(math.ceil(ISLAND_PROBE_SAMPLES / max(width, 1e-12)))
     return max(1, min(m0, ISLAND_MAX_REFINEMENT))
 
 
@@ -206,8 +216,8 @@ def island_scan(island, s, samp: Sampling, d: float, h: float, m0: int, zeta0: f
         The scan lines.
     samp : Sampling
         The sea's lattice; ``d`` the sea's largest elevation, ``h`` the eye's height.
-    m0 : int
-        The island's probe refinement (:func:`probe_refinement`).
+    m0 : int or float
+        The island's probe refinement (:func:`probe_refinement`; 1/2ᵖ where the lattice is coarsened).
     zeta0, dzeta : float
         The bottom pixel centre's ζ and the pixel pitch; ``K`` pixels on a scan line.
     sigma : float
@@ -225,7 +235,7 @@ def island_scan(island, s, samp: Sampling, d: float, h: float, m0: int, zeta0: f
     if refine:
         lat = _island_samples(island, s, samp, d, h, m0, zeta0, dzeta, K, sigma, budget)
     else:
-        lat = _island_lattice(island, s, samp, d, 1)
+        lat = _island_lattice(island, s, samp, d, min(m0, 1))
     if lat is None:
         return 0
     u, valid = lat

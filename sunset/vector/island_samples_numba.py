@@ -60,7 +60,7 @@ def island_scan(island, s, samp, d: float, h: float, m0: int, zeta0: float, dzet
         u, counts = lat
         g = _island_profile_flat(island, np.repeat(s, counts), u, h)
     else:
-        lat = _island_lattice(island, s, samp, d, 1)
+        lat = _island_lattice(island, s, samp, d, min(m0, 1))
         if lat is None:
             return 0
         u, valid = lat
@@ -208,7 +208,7 @@ def _islands_strip(s_all, c_lo, c_hi, params, cos_p, has_phase, cos_start, chord
             continue
         p = params[k]
         c0, c1 = cos_start[k], cos_start[k + 1]
-        du = du_sea / (m0 if refine else 1)
+        du = du_sea / (m0 if refine else min(m0, 1.0))
         for c in range(c_lo, c_hi):
             s = s_all[c]
             a0, a1 = _chord(chords[k, 0], s)
@@ -337,7 +337,7 @@ def islands_scan(islands, m0s, s_all, c0: int, c1: int, samp, d: float, h: float
                  K: int, sigma: float, budget: int, refine: bool, best_u, best_surf) -> int:
     """:func:`sunset.vector.island_samples.islands_scan` in one compiled call (no GIL held)."""
     params, cos_p, has_phase, cos_start, chords = _pack(tuple(islands), float(d))
-    m0 = np.array([0 if m is None else int(m) for m in m0s], np.int64)
+    m0 = np.array([0.0 if m is None else float(m) for m in m0s], np.float64)
     if not (best_u.flags.c_contiguous and best_surf.flags.c_contiguous):
         raise ValueError("best_u and best_surf must be C-contiguous")
     return int(_islands_strip(np.ascontiguousarray(s_all, np.float64), int(c0), int(c1), params, cos_p, has_phase,
