@@ -21,7 +21,8 @@ from pathlib import Path
 from . import __version__
 from .constants import MAX_CYCLE_FRAMES, MAX_FPS, MAX_HOURS_FROM_SUNSET, MAX_PIXELS
 from .errors import SunsetError, shown
-from .guard import Interrupted, check_stop, config_fallback, one_line, signals_stop_the_command, silenced_stdout
+from .guard import (Interrupted, check_environment, check_stop, config_fallback, one_line, signals_stop_the_command,
+                    silenced_stdout)
 
 EXAMPLES = {
     "figures": """examples:
@@ -465,6 +466,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             words = list(sys.argv[1:] if argv is None else argv)
             args = build_parser().parse_args(_join_values(words))
+            check_environment()               # the thread and process counts, before Numba is imported
             if args.command in RENDERING:     # big arrays reused, not faulted in
                 from .kernels import keep_freed_memory
                 keep_freed_memory()
@@ -487,9 +489,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         # the file system said no where no check foresaw it
         except OSError as exc:
-            where = ""
-            if getattr(exc, "filename", None):
-                where = f"{shown(exc.filename)}: "
+            where = f"{shown(exc.filename)}: " if getattr(exc, "filename", None) else ""
             message = one_line(where + (exc.strerror or str(exc)))
             print(f"sunset: error: {message}", file=sys.stderr)
             return 2

@@ -366,6 +366,15 @@ MAX_SEA_SAMPLES_PER_PIXEL = 256
 FRAME_BYTES_PER_PIXEL = 320
 MAX_FRAME_BYTES = 6 << 30
 
+#: The rest of a command's memory (sunset.vector.budget; the bench's "budget"
+#: row measures both in fresh processes): the interpreter's own, Python,
+#: NumPy, Numba and the compiled kernels loaded and the colour tables made
+#: (the peak resident memory of a process that rendered an 8 × 8 frame,
+#: measured at 125–272 MiB), and what a frame's work takes whatever its size
+#: (the tables of its hour, the encoder, the code it runs; 6–12 MiB measured).
+INTERPRETER_BYTES = 384 << 20
+FRAME_FIXED_BYTES = 16 << 20
+
 #: The most samples one frame may take in all (sea, islands at their budget,
 #: cloud samples and the pixels they cover, post tests: sunset.vector.budget);
 #: about 0.05–0.2 µs each on two cores, so a frame at the bound takes minutes,

@@ -11,6 +11,11 @@
   /dev/full``), Python's own flush at exit must not report it again.
 * :func:`config_fallback`: a read-only install with no writable HOME gets a
   private matplotlib folder instead of two lines of warnings on every command.
+* :func:`env_count`, :func:`check_environment`: the thread and process counts
+  of the environment (``SUNSET_THREADS``, ``SUNSET_WORKERS``,
+  ``NUMBA_NUM_THREADS``) are positive whole numbers in ASCII digits, and a
+  count is capped by the CPUs this process may use (:func:`usable_cpus`);
+  anything else is a one-line error, never silently ignored.
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ import signal
 import sys
 
 __all__ = ["MAX_MESSAGE", "Interrupted", "signals_stop_the_command", "check_stop", "one_line", "silenced_stdout",
-           "config_fallback"]
+           "config_fallback", "usable_cpus", "env_count", "check_environment", "COUNT_VARIABLES"]
 
 #: The longest error line the command prints, characters.
 MAX_MESSAGE = 400
@@ -123,3 +128,55 @@ def config_fallback() -> None:
         return
     if stat.S_ISDIR(st.st_mode) and st.st_uid == os.getuid() and not st.st_mode & 0o077:
         os.environ["MPLCONFIGDIR"] = path
+
+
+# --------------------------------------------------------------------------- counts from the environment
+#: The environment variables that hold a count of threads or processes.
+COUNT_VARIABLES = ("SUNSET_THREADS", "SUNSET_WORKERS", "NUMBA_NUM_THREADS")
+
+
+def usable_cpus() -> int:
+    """The CPUs this process may run on (its affinity mask, ``os.sched_getaffinity``, where the platform has one)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - platforms without affinity masks
+        return os.cpu_count() or 1
+
+
+def env_count(name: str, cap: bool = True) -> int | None:
+    """The count in environment variable ``name``: None when unset or blank, else a whole number >= 1.
+
+    Only ASCII digits are read (``int`` would also take ``"٣"`` or ``"1_0"``);
+    a sign, a fraction, a word, non-ASCII digits or 0 raise
+    :class:`~sunset.errors.SunsetError` naming the variable. With ``cap``
+    the count is at most :func:`usable_cpus` (more threads or processes than
+    CPUs buy nothing and cost memory: ``SUNSET_THREADS=1000000`` is the CPU
+    count).
+    """
+    from .errors import SunsetError, shown
+
+    text = os.environ.get(name)
+    if text is None or not text.strip():
+        return None
+    word = text.strip()
+    if not (word.isascii() and word.isdigit()) or not word.strip("0"):
+        raise SunsetError(f"{name} must be a whole number of at least 1 (ASCII digits), got {shown(text)}")
+    most = usable_cpus() if cap else 1 << 30
+    return most if len(word) > 9 else min(int(word), most)
+
+
+def check_environment() -> None:
+    """Raise :class:`~sunset.errors.SunsetError` for a bad count in :data:`COUNT_VARIABLES` or a bad ``SUNSET_COMPILED``.
+
+    The command line calls it before any work; the package checks each
+    variable again where it reads it (``NUMBA_NUM_THREADS`` before Numba is
+    imported: Numba raises a ``ValueError`` of its own at import for 0 and
+    ignores a word).
+    """
+    from .errors import SunsetError, shown
+
+    for name in COUNT_VARIABLES:
+        env_count(name)
+    compiled = os.environ.get("SUNSET_COMPILED")
+    if compiled is not None and compiled.strip() not in ("", "0", "1"):
+        raise SunsetError(f"SUNSET_COMPILED must be 0 or 1, got {shown(compiled)}")

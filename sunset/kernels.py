@@ -33,7 +33,8 @@ The compiled kernels release the GIL and NumPy's whole-array operations do
 too, so the threads run on all cores; every pixel is computed by the same
 operations whichever strip it falls in, so the frame is byte-identical for
 any number of threads (tests). The number of threads is ``$SUNSET_THREADS``,
-else the CPU count; :func:`use_threads` sets it for a block of code.
+else the CPUs this process may use, and never more than those;
+:func:`use_threads` sets it for a block of code.
 """
 
 from __future__ import annotations
@@ -43,6 +44,10 @@ import functools
 import importlib
 import os
 import threading
+
+from .guard import env_count
+
+env_count("NUMBA_NUM_THREADS")  # Numba's own check raises a ValueError at import (0), or ignores a word
 
 try:  # pragma: no cover - exercised by whichever environment runs the tests
     import numba as _numba
@@ -56,11 +61,13 @@ __all__ = ["AVAILABLE", "enabled", "use_compiled", "compiled_trig", "jit", "twin
 AVAILABLE = _numba is not None
 
 def _default_threads() -> int:
-    env = os.environ.get("SUNSET_THREADS", "").strip()
-    return max(1, int(env)) if env.isdigit() else max(1, os.cpu_count() or 1)
+    """``$SUNSET_THREADS``, else the usable CPUs; capped by them (:func:`sunset.guard.env_count`: a bad count raises)."""
+    from .guard import usable_cpus
+
+    return env_count("SUNSET_THREADS") or usable_cpus()
 
 
-_state = {"on": AVAILABLE and os.environ.get("SUNSET_COMPILED", "1") != "0", "threads": _default_threads(),
+_state = {"on": AVAILABLE and os.environ.get("SUNSET_COMPILED", "1") != "0", "threads": None,
           "pool": None, "pool_size": 0}
 _pool_lock = threading.Lock()
 
@@ -172,7 +179,9 @@ def twin(module: str, numpy_trig: bool = False):
 
 # --------------------------------------------------------------------------- strips on threads
 def threads() -> int:
-    """How many threads a frame's stages use now."""
+    """How many threads a frame's stages use now (read from the environment on first use)."""
+    if _state["threads"] is None:
+        _state["threads"] = _default_threads()
     return _state["threads"]
 
 
@@ -215,11 +224,11 @@ def _pool():
     from concurrent.futures import ThreadPoolExecutor
 
     with _pool_lock:
-        if _state["pool"] is None or _state["pool_size"] != _state["threads"]:
+        if _state["pool"] is None or _state["pool_size"] != threads():
             if _state["pool"] is not None:
                 _state["pool"].shutdown(wait=True)
-            _state["pool"] = ThreadPoolExecutor(max_workers=_state["threads"], thread_name_prefix="sunset")
-            _state["pool_size"] = _state["threads"]
+            _state["pool"] = ThreadPoolExecutor(max_workers=threads(), thread_name_prefix="sunset")
+            _state["pool_size"] = threads()
         return _state["pool"]
 
 

@@ -11,7 +11,8 @@ is bounded by
     bytes = RGB_LIGHT_BYTES + rays × RGB_BYTES_PER_RAY,   rays = k² W H,
 
 with :data:`~sunset.constants.RGB_LIGHT_BYTES` the hour's light (its sky
-grid), which does not grow with the picture. A film (``film --shading rgb``)
+grid), which does not grow with the picture; the interpreter's own
+:data:`~sunset.constants.INTERPRETER_BYTES` comes on top. A film (``film --shading rgb``)
 keeps the geometry of every frame of its wave cycle and shades one film frame
 at a time: frames × rays × GEOMETRY_BYTES_PER_RAY more. Both must stay within
 :data:`~sunset.constants.MAX_FRAME_BYTES`; the work of the k-times finer
@@ -26,7 +27,7 @@ from __future__ import annotations
 
 import math
 
-from ..constants import MAX_FRAME_BYTES, MAX_PIXELS, RGB_BYTES_PER_RAY, RGB_LIGHT_BYTES
+from ..constants import INTERPRETER_BYTES, MAX_FRAME_BYTES, MAX_PIXELS, RGB_BYTES_PER_RAY, RGB_LIGHT_BYTES
 from ..errors import SunsetError
 
 __all__ = ["rgb_bytes", "check_rgb_work"]
@@ -44,8 +45,8 @@ def check_rgb_work(scene, samples: int = 1, frames: int = 0) -> int:
     """Raise :class:`SunsetError` when the RGB back end would exceed its budget; else the predicted bytes.
 
     Checked before the picture is supersampled: the rays (k² per pixel) may be
-    at most MAX_PIXELS, and the predicted peak (:func:`rgb_bytes`) at most
-    MAX_FRAME_BYTES. Then the supersampled frame's own work (samples of the
+    at most MAX_PIXELS, and the predicted peak (:func:`rgb_bytes`) with the
+    interpreter's INTERPRETER_BYTES at most MAX_FRAME_BYTES. Then the supersampled frame's own work (samples of the
     sea, the islands, the clouds and the posts) is checked as any frame's.
     """
     from ..vector.budget import check_work
@@ -57,12 +58,12 @@ def check_rgb_work(scene, samples: int = 1, frames: int = 0) -> int:
     size = f"{W}x{H}"
     per = "" if samples == 1 else f" at {samples} samples per pixel"
     one = rgb_bytes(W, H, samples)
-    if W * H * samples > MAX_PIXELS or one > MAX_FRAME_BYTES:
+    if W * H * samples > MAX_PIXELS or INTERPRETER_BYTES + one > MAX_FRAME_BYTES:
         raise SunsetError(f"samples: a {size} picture{per} needs about {math.ceil(one / 2**20):,} MiB and traces "
                           f"{W * H * samples:,} rays (at most {MAX_FRAME_BYTES // 2**20:,} MiB and "
                           f"{MAX_PIXELS:,} rays): use fewer samples or a smaller picture")
     need = rgb_bytes(W, H, samples, frames)
-    if need > MAX_FRAME_BYTES:
+    if INTERPRETER_BYTES + need > MAX_FRAME_BYTES:
         raise SunsetError(f"frames: {frames} frames of a {size} picture{per} keep about {math.ceil(need / 2**20):,} "
                           f"MiB of geometry and light (at most {MAX_FRAME_BYTES // 2**20:,} MiB): use fewer frames, "
                           f"fewer samples or a smaller picture")

@@ -113,27 +113,24 @@ _STOP_SIGNALS = _stop_signals()
 
 
 def usable_cpus() -> int:
-    """The CPUs this process may run on (its affinity mask where the platform has one)."""
-    import os
+    """The CPUs this process may run on (:func:`sunset.guard.usable_cpus`)."""
+    from ..guard import usable_cpus as cpus
 
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except (AttributeError, OSError):  # pragma: no cover - platforms without affinity masks
-        return os.cpu_count() or 1
+    return cpus()
 
 
 def frame_workers(workers: int | None = None, frames: int = 1) -> int:
     """How many processes render frames: ``workers`` (``--jobs``), else ``$SUNSET_WORKERS``, else every usable CPU.
 
-    Never more than ``frames``: more processes than frames buy nothing.
+    Never more than ``frames`` nor than the usable CPUs: more processes buy nothing. A bad
+    ``$SUNSET_WORKERS`` (a sign, a word, non-ASCII digits, 0) raises (:func:`sunset.guard.env_count`).
     """
-    import os
+    from ..guard import env_count
 
     if workers is None:
-        env = os.environ.get("SUNSET_WORKERS", "")
-        workers = int(env) if env.strip().isdigit() else usable_cpus()
+        workers = env_count("SUNSET_WORKERS") or usable_cpus()
     require_int_range("workers", workers, 1)
-    return max(1, min(int(workers), int(frames)))
+    return max(1, min(int(workers), int(frames), usable_cpus()))
 
 
 #: The kinds of frame (:func:`_warm_key`) this process has coded: their compiled kernels are loaded.

@@ -13,8 +13,11 @@ number of pixels. A window far below the horizon and only a sliver tall asks
 for millions of samples per pixel (hours of work and gigabytes of memory for
 a 64 × 64 picture); :func:`check_work` refuses it, naming the fields to
 change, before any work is done. Each island adds at most
-``ISLAND_SAMPLE_BUDGET · max(n, H)`` samples per scan line (the refinement is
-lowered to respect it). A cloud layer (:mod:`sunset.vector.clouds`) takes, per cell, its
+``2 · ISLAND_SAMPLE_BUDGET · max(n, H)`` samples per scan line: its probe
+holds at most the budget (a chord spanning more of the sea's samples is
+probed on a coarser lattice, :func:`sunset.vector.island_samples.probe_refinement`),
+and the refinement is lowered to keep the cut probe within the budget plus
+one sample per probe interval. A cloud layer (:mod:`sunset.vector.clouds`) takes, per cell, its
 lattice's samples and the (sample, pixel) pairs they cover: the samples are
 counted exactly and the pairs bounded (:func:`sunset.vector.clouds.cell_work`)
 without evaluating a cloud; a cloud far taller than its height above the eye
@@ -25,13 +28,30 @@ The frame's predicted work is the sum of these counts; :func:`check_work`
 refuses a frame whose work exceeds :data:`~sunset.constants.MAX_FRAME_SAMPLES`
 (naming the islands, the clouds or the window), as it refuses a window whose
 sea takes more than :data:`~sunset.constants.MAX_SEA_SAMPLES_PER_PIXEL`.
-Memory is :data:`FRAME_BYTES_PER_PIXEL` per pixel plus the sea's samples of
-one strip of scan lines (:data:`SCANLINE_CHUNK_ELEMENTS`, or one scan line's
-n if larger) plus the largest strip of a cloud cell's samples and pairs (a strip of scan
-lines holds at most :data:`~sunset.constants.CLOUD_STRIP_PAIRS`)
-(:data:`~sunset.constants.CLOUD_BYTES_PER_SAMPLE`,
-:data:`~sunset.constants.CLOUD_BYTES_PER_PAIR`);
-:func:`sunset.bench.memory.measure_bytes_per_pixel` measures the first term.
+
+Memory, for either path (the compiled kernels or the NumPy reference, which
+holds whole strips where its twin holds one scan line: the prediction is the
+reference's, the larger)::
+
+    bytes = FRAME_FIXED_BYTES + W·H·FRAME_BYTES_PER_PIXEL + threads·strip + clouds
+
+with ``threads`` the frame's threads (:func:`sunset.kernels.threads`, at
+most the usable CPUs) each holding one strip: the larger of the sea's
+samples of a strip of scan lines (:data:`~sunset.constants.SCANLINE_CHUNK_ELEMENTS`,
+or one scan line's n if larger, :data:`SAMPLE_BYTES` each), the islands'
+(their budget per scan line, the probe and the samples padded to twice it,
+:data:`ISLAND_STRIP_BYTES`) and a strip of rows (:data:`~sunset.constants.STRIP_PIXELS`,
+:data:`ROW_STRIP_BYTES` each); ``clouds`` the largest strip of a cloud
+cell's samples and pairs (at most :data:`~sunset.constants.CLOUD_STRIP_PAIRS`;
+:data:`~sunset.constants.CLOUD_BYTES_PER_SAMPLE`,
+:data:`~sunset.constants.CLOUD_BYTES_PER_PAIR`). The interpreter's own
+memory, :data:`~sunset.constants.INTERPRETER_BYTES`, comes on top:
+:func:`check_work` refuses a frame whose total exceeds
+:data:`~sunset.constants.MAX_FRAME_BYTES`.
+:func:`sunset.bench.memory.measure_bytes_per_pixel` measures the per-pixel
+term; :func:`sunset.bench.memory.measure_command_peak` a whole command's
+peak in a fresh process (``tests/test_budget.py`` checks it against
+``bytes`` over windows from 10⁻⁶ tall to the whole view).
 """
 
 from __future__ import annotations
@@ -39,16 +59,24 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..constants import (CLOUD_BYTES_PER_PAIR, CLOUD_BYTES_PER_SAMPLE, FRAME_BYTES_PER_PIXEL, ISLAND_SAMPLE_BUDGET,
-                         MAX_FRAME_BYTES, MAX_FRAME_SAMPLES, MAX_SEA_SAMPLES_PER_PIXEL, SCANLINE_CHUNK_ELEMENTS)
+from ..constants import (CLOUD_BYTES_PER_PAIR, CLOUD_BYTES_PER_SAMPLE, FRAME_BYTES_PER_PIXEL, FRAME_FIXED_BYTES,
+                         INTERPRETER_BYTES, ISLAND_SAMPLE_BUDGET, MAX_FRAME_BYTES, MAX_FRAME_SAMPLES,
+                         MAX_SEA_SAMPLES_PER_PIXEL, SCANLINE_CHUNK_ELEMENTS, STRIP_PIXELS)
 from ..errors import SunsetError
 from .heightfield import sampling
 
-__all__ = ["Work", "predict_work", "check_work", "SAMPLE_BYTES"]
+__all__ = ["Work", "predict_work", "check_work", "SAMPLE_BYTES", "ISLAND_STRIP_BYTES", "ROW_STRIP_BYTES"]
 
 #: Bytes per sample of the sea's strip of scan lines (the float64 lattice u and
-#: the float32 elevation, phase, sum and profile arrays).
+#: the float32 elevation, phase, sum and profile arrays; 16–25 measured on a full strip).
 SAMPLE_BYTES = 32
+
+#: Bytes per sample of the islands' budget in a strip of the NumPy reference
+#: (the probe and its steps, the padded samples, their profile and scan; up to 82 measured).
+ISLAND_STRIP_BYTES = 128
+
+#: Bytes per pixel of a strip of rows in flight on a thread (reflections, codes, the film recorder).
+ROW_STRIP_BYTES = 256
 
 
 @dataclass(frozen=True)
@@ -62,7 +90,7 @@ class Work:
     sea_samples : int
         n × width, the sea's samples in the frame (exact).
     island_samples_bound : int
-        The most island samples the frame can take (every island at its budget).
+        The most island samples the frame can take (every island at twice its budget: see above).
     cloud_samples : int
         The cloud layer's samples, all cells (exact).
     cloud_pairs_bound : int
@@ -70,7 +98,10 @@ class Work:
     post_tests_bound : int
         The most ray–post tests (2 × posts × pixels).
     bytes : int
-        The memory bound: pixels × FRAME_BYTES_PER_PIXEL + one strip of sea samples + the largest cloud cell.
+        The memory bound of the work, on top of the interpreter's INTERPRETER_BYTES: FRAME_FIXED_BYTES +
+        pixels × FRAME_BYTES_PER_PIXEL + a strip per thread + the largest strip of a cloud cell.
+    threads : int
+        The threads the prediction counts, each with a strip in flight.
     """
 
     width: int
@@ -82,6 +113,12 @@ class Work:
     cloud_samples: int = 0
     cloud_pairs_bound: int = 0
     post_tests_bound: int = 0
+    threads: int = 1
+
+    @property
+    def total_bytes(self) -> int:
+        """The command's memory: the interpreter's (INTERPRETER_BYTES) and the work's."""
+        return INTERPRETER_BYTES + self.bytes
 
     @property
     def sea_samples_per_pixel(self) -> float:
@@ -116,17 +153,33 @@ def _cloud_work(scene) -> tuple[int, int, int]:
     return samples, pairs, biggest
 
 
-def predict_work(scene) -> Work:
-    """Predict the samples and the memory of one frame of ``scene`` (no rendering)."""
+def strip_bytes(scene) -> int:
+    """The most one thread holds at once of a frame of ``scene``: a strip of sea samples, of island samples, of rows."""
+    cam = scene.camera
+    n = sampling(cam, scene.sea.max_elevation).n
+    budget = ISLAND_SAMPLE_BUDGET * max(n, cam.height)
+    sea = max(SCANLINE_CHUNK_ELEMENTS, n) * SAMPLE_BYTES
+    islands = max(SCANLINE_CHUNK_ELEMENTS, budget) * ISLAND_STRIP_BYTES if scene.islands else 0
+    return max(sea, islands, min(STRIP_PIXELS, cam.width * cam.height) * ROW_STRIP_BYTES)
+
+
+def predict_work(scene, threads: int | None = None) -> Work:
+    """Predict the samples and the memory of one frame of ``scene`` (no rendering).
+
+    ``threads``: the frame's threads (default :func:`sunset.kernels.threads`).
+    """
+    from ..kernels import threads as current_threads
+
     cam = scene.camera
     W, H = cam.width, cam.height
     n = sampling(cam, scene.sea.max_elevation).n
-    islands = len(scene.islands) * ISLAND_SAMPLE_BUDGET * max(n, H) * W
-    strip = max(SCANLINE_CHUNK_ELEMENTS, n) * SAMPLE_BYTES
+    islands = len(scene.islands) * 2 * ISLAND_SAMPLE_BUDGET * max(n, H) * W
+    threads = min(int(current_threads() if threads is None else threads), W)
     cloud_samples, cloud_pairs, cloud_bytes = _cloud_work(scene)
+    memory = FRAME_FIXED_BYTES + W * H * FRAME_BYTES_PER_PIXEL + threads * strip_bytes(scene) + cloud_bytes
     return Work(width=W, height=H, sea_samples_per_line=n, sea_samples=n * W, island_samples_bound=islands,
-                bytes=W * H * FRAME_BYTES_PER_PIXEL + strip + cloud_bytes, cloud_samples=cloud_samples,
-                cloud_pairs_bound=cloud_pairs, post_tests_bound=2 * len(scene.posts) * W * H)
+                bytes=memory, cloud_samples=cloud_samples, cloud_pairs_bound=cloud_pairs,
+                post_tests_bound=2 * len(scene.posts) * W * H, threads=threads)
 
 
 def check_work(scene) -> Work:
@@ -157,8 +210,9 @@ def check_work(scene) -> Work:
             "camera": ("the sea", "use a smaller picture, a taller window or a larger sigma")}[biggest]
         what = f"{biggest}: {what} at {size} may take up to {work.samples:.3g} samples"
         raise SunsetError(f"{what} per frame (at most {MAX_FRAME_SAMPLES:.3g}): {fix}")
-    if work.bytes > MAX_FRAME_BYTES:
-        raise SunsetError(f"camera: a {work.width}x{work.height} frame needs about "
-                          f"{math.ceil(work.bytes / 2**20):,} MiB (at most {MAX_FRAME_BYTES // 2**20:,} MiB): "
-                          f"use a smaller picture")
+    if work.total_bytes > MAX_FRAME_BYTES:
+        raise SunsetError(f"camera: a {work.width}x{work.height} frame on {work.threads} threads needs about "
+                          f"{math.ceil(work.total_bytes / 2**20):,} MiB with the interpreter's "
+                          f"{INTERPRETER_BYTES // 2**20} (at most {MAX_FRAME_BYTES // 2**20:,} MiB): "
+                          f"use a smaller picture, a taller window or fewer threads (SUNSET_THREADS)")
     return work

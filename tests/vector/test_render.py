@@ -179,14 +179,22 @@ def test_a_worker_hands_back_the_free_memory_it_inherited():
 def test_frame_workers(monkeypatch):
     import os
 
+    import sunset.guard
+    import sunset.tape.cycle
     from sunset.tape.cycle import frame_workers, usable_cpus
 
+    # never more than the usable CPUs, whatever --jobs or SUNSET_WORKERS say
+    monkeypatch.delenv("SUNSET_WORKERS", raising=False)
+    assert frame_workers(10**6, 10**6) == frame_workers(None, 10**6) == len(os.sched_getaffinity(0))
+    monkeypatch.setenv("SUNSET_WORKERS", "1000000")
+    assert frame_workers(None, 10**6) == len(os.sched_getaffinity(0))
+    monkeypatch.setattr(sunset.guard, "usable_cpus", lambda: 8)
+    monkeypatch.setattr(sunset.tape.cycle, "usable_cpus", lambda: 8)
     assert frame_workers(4, 3) == 3
     assert frame_workers(1, 10) == 1
     # by default every CPU the process may use (not capped at two), never more than the frames
     monkeypatch.delenv("SUNSET_WORKERS", raising=False)
-    assert usable_cpus() == len(os.sched_getaffinity(0))
-    assert frame_workers(None, 10**6) == usable_cpus()
+    assert frame_workers(None, 10**6) == usable_cpus() == 8
     assert frame_workers(None, 1) == 1
     monkeypatch.setenv("SUNSET_WORKERS", "3")
     assert frame_workers(None, 10) == 3
