@@ -14,10 +14,11 @@ from a :class:`~sunset.light.lighting.Lighting`:
   path's throughput, and the water seen at each bounce added,
   w (ω E'_sun p(ψ)/(μ' + μ_u)) + w_sky ω E'_sky.
 
-Everything is float32, written as element-wise operations in a fixed order
-(dot products spelt out, no BLAS), so that the twins in
-:mod:`sunset.light.kernel_numba`, doing the same operations one pixel at a
-time, give identical bytes; the tests check it.
+Everything is float32. The twins in :mod:`sunset.light.kernel_numba` compute
+the same formulas one pixel at a time; they agree with these references within
+:data:`~sunset.light.kernel_numba.RADIANCE_RTOL` (the radiances) and
+:data:`~sunset.light.kernel_numba.DISPLAY_ATOL` (the display values), measured
+and tested, and each path gives the same bytes on every run.
 """
 
 from __future__ import annotations
@@ -69,9 +70,7 @@ def sky_pixels(r0, fr, az, dirs, table, sun_azimuth, col_scale, sun_dir, cos_del
     top = table[r0, c0] * (one - fc) + table[r0, c0 + 1] * fc
     bottom = table[r0 + 1, c0] * (one - fc) + table[r0 + 1, c0 + 1] * fc
     out = top * (one - f) + bottom * f
-    s = np.asarray(sun_dir, np.float32)
-    dot = dirs[:, 0] * s[0] + dirs[:, 1] * s[1] + dirs[:, 2] * s[2]
-    inside = (dot > _f(cos_delta)) & (dirs[:, 2] >= _f(0))
+    inside = (dirs @ np.asarray(sun_dir, np.float32) > _f(cos_delta)) & (dirs[:, 2] >= _f(0))
     out[inside] += np.asarray(sun_xyz, np.float32)
     return out
 
@@ -93,9 +92,7 @@ def island_pixels(normals, part, g0, g1, fx, fy, sun_dir, direct, table) -> np.n
     table : (4, G, G, 3) float32
         Albedo × skylight / π per part and normal.
     """
-    s = np.asarray(sun_dir, np.float32)
-    cos = normals[:, 0] * s[0] + normals[:, 1] * s[1] + normals[:, 2] * s[2]
-    cos = np.maximum(cos, _f(0))[:, None]
+    cos = np.maximum(normals @ np.asarray(sun_dir, np.float32), _f(0))[:, None]
     p = part.astype(np.intp)
     one = _f(1)
     x = fx[:, None]
@@ -121,10 +118,9 @@ def combine(n_pixels, throughput, sky_index, sky, island_index, island,
     out[sky_index] = sky
     out[island_index] = island
     out *= throughput[:, None]
-    b = np.asarray(beam, np.float32)
     ws = np.asarray(water_sun, np.float32)
     wk = np.asarray(water_sky, np.float32)
-    cos_psi = w_up[:, 0] * b[0] + w_up[:, 1] * b[1] + w_up[:, 2] * b[2]
+    cos_psi = w_up @ np.asarray(beam, np.float32)
     phase = (_f(1) + _f(PHASE_ANISOTROPY) * cos_psi * cos_psi) * _f(PHASE_NORM)
     f_sun = phase / (_f(mu_beam) + w_mu) * w_weight
     add = f_sun[:, None] * ws + w_sky[:, None] * wk
@@ -141,44 +137,25 @@ def display_pixels(xyz, scale, m, exponent, semi_saturation) -> np.ndarray:
 
     The same response (the eye's Naka–Rushton curve on Y, chromaticity kept,
     bleaching towards white above full scale) with the XYZ → sRGB matrix ``m``
-    (:func:`sunset.light.tone.xyz_to_rgb_matrix`) spelt out. The twin
-    computes yⁿ with libm's ``pow`` inside one fused pass where that is
-    NumPy's power bit for bit (checked once per exponent on a probe,
-    :func:`sunset.light.kernel_numba.fused_power`; it is for the eye's 0.6
-    on x86-64 with glibc), and with NumPy's power between two passes
-    elsewhere, so it gives the same bytes either way.
+    (:func:`sunset.light.tone.xyz_to_rgb_matrix`). The twin computes it in one
+    pass, yⁿ with the C library's ``pow``.
     """
     x = np.asarray(xyz, np.float64) / scale
-    lin, y = _linear_rgb(x, m)
-    a = np.power(y, exponent)
-    return _respond(lin, y, a, semi_saturation ** exponent)
+    lin = np.maximum(x @ m, 0.0)
+    y = np.maximum(x[:, 1], 0.0)
+    return _respond(lin, y, np.power(y, exponent), semi_saturation ** exponent)
 
 
 @twin("sunset.light.kernel_numba")
 def display_box(xyz, scale, m, exponent, semi_saturation, k: int) -> np.ndarray:
     """XYZ (kH, kW, 3) → linear display RGB (H, W, 3) float64: :func:`display_pixels`, then the mean of each k × k block.
 
-    The block's samples are added row by row, left to right, and the sum
-    divided by k² (the order NumPy's ``mean(axis=(1, 3))`` takes, so the
-    result is the same bytes as that); the twin fuses the two steps pixel by
-    pixel and never holds the full-resolution response.
+    The twin fuses the two steps pixel by pixel and never holds the
+    full-resolution response.
     """
     hk, wk = xyz.shape[:2]
-    rgb = display_pixels.reference(np.asarray(xyz).reshape(-1, 3), scale, m, exponent,
-                                   semi_saturation).reshape(hk // k, k, wk // k, k, 3)
-    acc = rgb[:, 0, :, 0].copy()
-    for i in range(k):
-        for j in range(k):
-            if i or j:
-                acc += rgb[:, i, :, j]
-    return acc / (k * k)
-
-
-def _linear_rgb(x, m):
-    lin = np.empty_like(x)
-    for c in range(3):
-        lin[:, c] = np.maximum(x[:, 0] * m[0, c] + x[:, 1] * m[1, c] + x[:, 2] * m[2, c], 0.0)
-    return lin, np.maximum(x[:, 1], 0.0)
+    rgb = display_pixels.reference(np.asarray(xyz).reshape(-1, 3), scale, m, exponent, semi_saturation)
+    return rgb.reshape(hk // k, k, wk // k, k, 3).mean(axis=(1, 3))
 
 
 def _respond(lin, y, a, s_n):

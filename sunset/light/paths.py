@@ -16,11 +16,11 @@ works out what its path does, without the light (see
 * the throughput τ = Π R_k, R_k the unpolarised Fresnel reflectance.
 
 Precision: the directions are float32, as the frame stores them; the
-reflectance is computed in float64 from the float32 cosine and rounded to
-float32 once. The twin in :mod:`sunset.light.paths_numba` does the same
-operations in the same order, one pixel at a time, with no transcendental
-function but the square root (exact in IEEE arithmetic), so the two give
-identical bytes (tests).
+reflectance is :func:`sunset.light.fresnel.reflectance` in float64 of the
+float32 cosine, rounded to float32 once. The twin in
+:mod:`sunset.light.paths_numba` computes the same formulas one pixel at a
+time; the two agree within :data:`~sunset.light.paths_numba.PATHS_RTOL`
+(measured and tested), and each gives the same bytes on every run.
 """
 
 from __future__ import annotations
@@ -29,24 +29,11 @@ import numpy as np
 
 from ..constants import CLOUD, PART_CLIFF, POST, SEA, SKY
 from ..kernels import twin
+from .fresnel import reflectance
 
-__all__ = ["trace_paths", "reflectance64", "lookups"]
+__all__ = ["trace_paths", "lookups"]
 
 _f = np.float32
-
-
-def reflectance64(c, n: float) -> np.ndarray:
-    """Unpolarised Fresnel reflectance, float64, of float cosines ``c`` (clipped to [0, 1]), spelt out.
-
-    (R_s + R_p)/2 with R_s = ((c − n c_t)/(c + n c_t))², R_p = ((n c − c_t)/(n c + c_t))²,
-    c_t = √(1 − (1 − c²)/n²): :func:`sunset.light.fresnel.fresnel`, written with products
-    instead of powers so that the twin repeats it exactly.
-    """
-    c = np.minimum(np.maximum(np.asarray(c, np.float64), 0.0), 1.0)
-    ct = np.sqrt(1.0 - (1.0 - c * c) / (n * n))
-    s = (c - n * ct) / (c + n * ct)
-    p = (n * c - ct) / (n * c + ct)
-    return 0.5 * (s * s + p * p)
 
 
 def _clip32(x):
@@ -67,7 +54,7 @@ def _layer(incident, normal, cos_i, before, n: float):
     t2 = incident[:, 2] / n32 + k * normal[:, 2]
     length = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
     up = np.stack([-t0 / length, -t1 / length, -t2 / length], axis=-1)
-    r = reflectance64(cos_i, n)
+    r = reflectance(np.asarray(cos_i, np.float64), n)
     weight = before * ((1.0 - r) / (n * n)).astype(np.float32)
     return up, weight, r.astype(np.float32)
 
@@ -132,8 +119,8 @@ def lookups(ray, final_surface, bounces, point, kind, normal, offset: int, depth
 
     ``kind`` and ``normal`` are :func:`trace_paths`' ; the other arrays the
     strip's frame fields, flattened; ``offset`` the strip's first pixel. The
-    twin compacts the lists in one compiled pass and leaves the arcsine and
-    the arctangent to NumPy, so either path gives the same bytes.
+    twin compacts the lists in one compiled pass and leaves the rows' arcsine
+    and the arctangent to NumPy.
     """
     from .lighting import NORMAL_GRID, SKY_REFINE, SKY_ROWS, sky_row
 

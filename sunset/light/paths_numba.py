@@ -1,4 +1,7 @@
-"""Numba twin of :mod:`sunset.light.paths`: the same float32 operations, one pixel at a time."""
+"""Numba twin of :mod:`sunset.light.paths`: the same formulas, one pixel at a time.
+
+Within :data:`PATHS_RTOL` of the reference (``tests/light/test_kernels.py``).
+"""
 
 from __future__ import annotations
 
@@ -7,7 +10,12 @@ import numpy as np
 from ..constants import CLOUD, PART_CLIFF, POST, SEA, SKY
 from ..kernels import jit
 
-__all__ = ["trace_paths", "lookups"]
+__all__ = ["trace_paths", "lookups", "PATHS_RTOL"]
+
+#: The paths' float fields (the water's directions and weights, the throughput, the tables' fractions),
+#: relative to the field's largest value. Measured: no difference on the packaged scenes' frames (the same
+#: formulas in IEEE's correctly rounded +, −, ×, ÷ and √); allowed: one float32 ulp.
+PATHS_RTOL = 2.0**-23
 
 
 @jit
@@ -30,7 +38,7 @@ def _layer(i0, i1, i2, m0, m1, m2, cos_i, before, n, up, weight, j):
     up[j, 0] = -t0 / length
     up[j, 1] = -t1 / length
     up[j, 2] = -t2 / length
-    # the reflectance in float64 from the float32 cosine (reflectance64)
+    # the reflectance in float64 from the float32 cosine (sunset.light.fresnel.reflectance)
     c64 = np.float64(cos_i)
     if c64 < 0.0:
         c64 = 0.0
