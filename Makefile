@@ -32,7 +32,7 @@ help:
 	@echo "make test      run the test suite"
 	@echo "make book      build the Jupyter Book into book/_build/html (BOOK_EXECUTE=force re-runs every chapter)"
 	@echo "make book-check  open every page of the built book in headless Chromium and check it"
-	@echo "make pdf       the whole book as one PDF, book/_build/pdf/sunset-book.pdf (Chromium, offline)"
+	@echo "make pdf       the whole book as one PDF with bookmarks and a paged contents, book/_build/pdf/sunset-book.pdf, checked (Chromium, offline)"
 	@echo "make bench     time the renderer (writes figures/bench.json)"
 	@echo "make bench-player  time the colour-table player in headless Chromium (figures/player-bench.json)"
 	@echo "make lock      re-resolve requirements/*.lock after pyproject.toml changes (LOCK_FLAGS=--upgrade: newest releases)"
@@ -107,13 +107,14 @@ book: $(VENV)/.stamp-book
 book-check: $(VENV)/.stamp-book
 	$(PY) book/browser_check.py book/_build/html
 
-pdf: $(VENV)/.stamp-book
+# The PDF's check compares its numbering with the HTML book's, so the HTML book comes first.
+pdf: $(BOOK_STAMP) $(VENV)/.stamp-book
 	$(PY) book/pdf.py --execute $(BOOK_EXECUTE)
 
 # `make pdf` always prints; `make all` only when a source of the book changed.
 BOOK_PDF := book/_build/pdf/sunset-book.pdf
 
-$(BOOK_PDF): $(BOOK_SOURCES) $(VENV)/.stamp-book
+$(BOOK_PDF): $(BOOK_SOURCES) book/pdf.css $(BOOK_STAMP) $(VENV)/.stamp-book
 	$(PY) book/pdf.py --execute $(BOOK_EXECUTE)
 
 all: figures $(BOOK_STAMP) $(BOOK_PDF)
