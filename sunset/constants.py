@@ -344,6 +344,10 @@ MAX_COSINES = 64
 MAX_SCENE_BYTES = 1 << 20
 MAX_SCENE_DEPTH = 16
 
+#: Longest text field of a scene (its title, an island's name), characters;
+#: each must be printable (sunset.model.scene.check_text).
+MAX_TEXT_CHARS = 200
+
 #: Largest tape header (the scene's TOML and the times), bytes.
 MAX_TAPE_HEADER_BYTES = 1 << 24
 

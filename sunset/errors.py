@@ -32,7 +32,12 @@ def shown(value: Any) -> str:
         value = os.fspath(value)
     if isinstance(value, bytes):
         value = os.fsdecode(value)
-    text = value if isinstance(value, str) and value.isprintable() else repr(value)
+    if isinstance(value, str):
+        from .escape import terminal_text
+
+        text = terminal_text(value)
+    else:
+        text = repr(value)
     if len(text) > MAX_SHOWN:
         half = (MAX_SHOWN - 5) // 2
         text = f"{text[:half]} ... {text[-half:]}"

@@ -344,8 +344,8 @@ def png_bytes(rgb: np.ndarray, metadata: dict[str, str] | None = None) -> bytes:
     if arr.dtype != np.uint8:
         raise TypeError(f"expected a uint8 image, got {arr.dtype}")
     info = PngImagePlugin.PngInfo()
-    for key, value in stamped(metadata).items():
-        info.add_itxt(key, str(value))
+    for key, value in stamped(metadata).items():    # values as sunset.escape.metadata_text writes them
+        info.add_itxt(key, value)
     buf = io.BytesIO()
     Image.fromarray(arr).save(buf, format="PNG", pnginfo=info, optimize=False, compress_level=6)
     return buf.getvalue()

@@ -80,6 +80,9 @@ def stamped(metadata: dict[str, str] | None = None) -> dict[str, str]:
     ``Software`` (``sunset <version>``) first unless given, then ``metadata``
     in its order, then ``sunset:provenance`` (:func:`provenance_json`) unless
     given. A dict that has both already comes back equal, in the same order.
+    Every value goes through :func:`sunset.escape.metadata_text` (printable
+    UTF-8 and line feeds: a scene's title cannot put a NUL or a control
+    character into a tag).
 
     >>> list(stamped({"sunset:settings": "{}"}))
     ['Software', 'sunset:settings', 'sunset:provenance']
@@ -88,7 +91,9 @@ def stamped(metadata: dict[str, str] | None = None) -> dict[str, str]:
     out = {} if "Software" in given else {"Software": f"sunset {package_version(DISTRIBUTION)}"}
     out.update(given)
     out.setdefault("sunset:provenance", provenance_json())
-    return out
+    from .escape import metadata_text
+
+    return {key: metadata_text(value) for key, value in out.items()}
 
 
 def environment() -> dict[str, str]:
@@ -108,5 +113,7 @@ def environment() -> dict[str, str]:
 def info_text(env: dict[str, str] | None = None) -> str:
     """``env`` (default :func:`environment`) as aligned ``name  value`` lines."""
     env = environment() if env is None else env
+    from .escape import terminal_text
+
     width = max(map(len, env))
-    return "".join(f"{k:<{width}}  {v}\n" for k, v in env.items())
+    return "".join(f"{k:<{width}}  {terminal_text(v)}\n" for k, v in env.items())

@@ -42,18 +42,19 @@ def render_pov(scene, t: float = 0.0, out_png: str | os.PathLike | None = None, 
     """Render ``scene`` at time ``t`` with POV-Ray at the camera's size; (RGB uint8 (H, W, 3), seconds).
 
     The seconds are the wall-clock time of the ``povray`` process (parsing
-    and tracing), on ``threads`` threads (default: the CPU count); no
+    and tracing), on ``threads`` threads (default and at most: the usable CPUs); no
     anti-aliasing, one ray per pixel centre.
     """
     from PIL import Image
 
+    from ..guard import usable_cpus
     from ..model.pov import pov_scene
 
     exe = povray_path()
     if exe is None:
         raise SunsetError("povray is not installed (Debian: apt-get install povray)")
     cam = scene.camera
-    n = threads or os.cpu_count() or 1
+    n = min(threads or usable_cpus(), usable_cpus())       # never more threads than the CPUs we may use
     with tempfile.TemporaryDirectory(prefix="sunset-pov-") as tmp:
         pov = Path(tmp) / "scene.pov"
         png = Path(tmp) / "scene.png"

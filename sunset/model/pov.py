@@ -47,7 +47,9 @@ these terms.)
 
 What is not exported: a scene's clouds and posts (the file says so in a
 comment when the scene has them), and the sun, whose light the flat colours
-do not need.
+do not need. The scene's title and its islands' names go into ``//``
+comments through :func:`sunset.escape.pov_comment` (printable ASCII only:
+no line break can end the comment and make POV-Ray read what follows).
 """
 
 from __future__ import annotations
@@ -161,6 +163,7 @@ def _sea_gradient_bound(scene: Scene) -> float:
 def pov_scene(scene: Scene, t: float = 0.0) -> str:
     """The scene at time ``t`` (seconds) as a POV-Ray 3.7 scene file (text); see the module docstring."""
     from ..errors import require_finite
+    from ..escape import pov_comment
     from ..provenance import provenance_json
 
     require_finite("t", t)
@@ -172,10 +175,11 @@ def pov_scene(scene: Scene, t: float = 0.0) -> str:
     half_width = max(abs(cam.s_min), abs(cam.s_max)) * far + 10.0
     sky, sea, isl = (_vec(*POV_COLOURS[k]) for k in ("sky", "sea", "island"))
     out = [
-        f"// {scene.title or 'sunset scene'} at t = {_n(t)} s, written by `sunset export pov` for POV-Ray 3.7.",
+        f"// {pov_comment(scene.title or 'sunset scene')} at t = {_n(t)} s, written by `sunset export pov` for "
+        f"POV-Ray 3.7.",
         "// This package's point (x, y, z) (x right, y forward, z up) is POV-Ray's <x, z, y>.",
         f"// Render at the scene's size: povray +I<this file> +W{cam.width} +H{cam.height} -A +FN",
-        f"// made by: {provenance_json()}",
+        f"// made by: {pov_comment(provenance_json())}",
         *([f"// not exported: {', '.join(k for k, v in (('clouds', scene.clouds), ('posts', scene.posts)) if v)}"]
           if scene.clouds is not None or scene.posts else []),
         "#version 3.7;",
@@ -206,7 +210,7 @@ def pov_scene(scene: Scene, t: float = 0.0) -> str:
         lo, hi = island_box(island, h, d)
         radius = 0.5 * (hi[0] - lo[0])
         out += [
-            f"// island {island.name!s}: eqs. 3 and 4",
+            f"// island {pov_comment(island.name)}: eqs. 3 and 4",
             "isosurface {",
             f"  function {{ {island_function(island, h)} }}",
             f"  contained_by {{ box {{ {_vec(*lo)}, {_vec(*hi)} }} }}",

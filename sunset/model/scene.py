@@ -31,7 +31,7 @@ from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 
-from ..constants import MAX_COSINES, MAX_ISLANDS, MAX_SCENE_BYTES, MAX_SCENE_DEPTH, MAX_TRAINS
+from ..constants import MAX_COSINES, MAX_ISLANDS, MAX_SCENE_BYTES, MAX_SCENE_DEPTH, MAX_TEXT_CHARS, MAX_TRAINS
 from .camera import Camera
 from .clouds import Billow, CloudCell, Clouds
 from .posts import Post
@@ -59,9 +59,12 @@ class Scene:
     posts: tuple[Post, ...] = field(default_factory=tuple)
 
     def __post_init__(self):
+        check_text("title", self.title)
         object.__setattr__(self, "islands", tuple(self.islands))
         if len(self.islands) > MAX_ISLANDS:
             raise SunsetError(f"islands must hold at most {MAX_ISLANDS} entries, got {len(self.islands)}")
+        for k, island in enumerate(self.islands):
+            check_text(f"islands[{k}].name", island.name)
         h = self.camera.eye_height
         for k, island in enumerate(self.islands):
             ground = float(island.height(0.0, 0.0))
@@ -129,6 +132,27 @@ class Scene:
     def named(cls, name: str) -> "Scene":
         """A scene shipped in ``sunset/scenes/``, by name (e.g. ``"storm-swell"``; see :func:`scene_names`)."""
         return load_named_scene(name)
+
+
+def check_text(name: str, value) -> None:
+    """Raise :class:`SunsetError` unless ``value`` is a scene's text: a str of at most MAX_TEXT_CHARS printable characters.
+
+    Printable as Python's ``str.isprintable``: letters, marks, digits,
+    punctuation, symbols and the space, in any script; no control
+    character (line breaks, tabs, escapes, NUL), no format character
+    (bidirectional overrides, zero-width joiners), no surrogate (a byte that
+    was not UTF-8), no private-use or unassigned code point, no line or
+    paragraph separator. Every format the text reaches escapes it again
+    (:mod:`sunset.escape`).
+    """
+    if not isinstance(value, str):
+        raise SunsetError(f"{name} must be text, got {shown(value)}")
+    if len(value) > MAX_TEXT_CHARS:
+        raise SunsetError(f"{name} must be at most {MAX_TEXT_CHARS} characters, got {len(value)}")
+    bad = next((ch for ch in value if not ch.isprintable()), None)
+    if bad is not None:
+        raise SunsetError(f"{name} must hold printable characters only (no line break, control or format character), "
+                          f"got {shown(bad)} (U+{ord(bad):04X}) at {value.index(bad)}")
 
 
 def scene_names() -> list[str]:

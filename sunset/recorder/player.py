@@ -53,7 +53,6 @@ is exposed in (1 − w)·table + w·sun, mixed in linear light and encoded back.
 from __future__ import annotations
 
 import base64
-import html
 import io
 import json
 import math
@@ -66,6 +65,7 @@ import numpy as np
 
 from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, SUN_SUPERSAMPLE
 from ..errors import SunsetError, require_finite, require_int_range
+from ..escape import html_text, script_json
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
 from ..model.sun import require_hours
 from ..tape.codes import CODE_MAP, cloud_code_depths, code_map, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations
@@ -333,8 +333,7 @@ def player_data(tape, grid, start_hours: float | None = None, progress: bool = F
 
 
 def _data_json(data: dict) -> str:
-    text = json.dumps(data, sort_keys=True, separators=(",", ":"), ensure_ascii=True, allow_nan=False)
-    return text.replace("</", "<\\/")        # JSON's own escape: the script element cannot end early
+    return script_json(data)                 # no "</script>", no "<!--<script>": the element ends where it should
 
 
 def _asset(name: str) -> str:
@@ -343,7 +342,7 @@ def _asset(name: str) -> str:
 
 def player_fragment(data: dict) -> str:
     """The player as an HTML fragment (markup, style, data and script) to embed in a page."""
-    markup = _asset("player.html").replace("{{TITLE}}", html.escape(data["title"]))
+    markup = _asset("player.html").replace("{{TITLE}}", html_text(data["title"]))
     return (f"<style>\n{_asset('player.css')}</style>\n{markup}"
             f'<script type="application/json" id="{_DATA_ID}">{_data_json(data)}</script>\n'
             f"<script>\n{_asset('player.js')}</script>\n")
@@ -351,8 +350,8 @@ def player_fragment(data: dict) -> str:
 
 def player_html(data: dict) -> str:
     """The player as one self-contained HTML document: nothing is loaded from anywhere."""
-    title = html.escape(f"{data['title']}: the colour-table player")
-    made_by = html.escape(f"sunset {data.get('sunset_version', '')}".strip())
+    title = html_text(f"{data['title']}: the colour-table player")
+    made_by = html_text(f"sunset {data.get('sunset_version', '')}".strip())
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
             "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
             f"<meta name=\"generator\" content=\"{made_by}\">\n"
