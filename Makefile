@@ -127,7 +127,7 @@ bench: $(VENV)/.stamp-test
 
 bench-player: $(VENV)/.stamp-test
 	$(PY) -m sunset player carlas-island -o figures/player.html --quiet
-	$(PY) book/browser_check.py --player-bench figures/player.html --out figures/player-bench.json
+	$(PY) -m tests.recorder.player_browser figures/player.html --out figures/player-bench.json
 
 # Everything make and the test suite write; figures/.gitkeep and the sources stay.
 CLEAN_FIGURES := $(filter-out figures/.gitkeep,$(wildcard figures/* figures/.deps.mk figures/.deps.mk.tmp))
