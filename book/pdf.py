@@ -23,9 +23,12 @@ Usage::
    contents landed (Chromium writes a named destination for every link
    target); those numbers are written into the contents, which keep their
    layout (the numbers sit in a column of fixed width), and the book is
-   printed again, with a bookmark outline of its headings (Chromium's
-   document outline) and tags. If a heading moved between the two prints,
-   it prints once more, up to :data:`MAX_PRINTS` times.
+   printed again, tagged (a structure tree for screen readers). If a heading
+   moved between the two prints, it prints once more, up to :data:`MAX_PRINTS`
+   times. pypdf then adds the bookmark outline (the book's title with the
+   contents and the introduction, then the parts, chapters and sections, each at
+   its heading) as an incremental update. (Chromium's own document outline is
+   not used: it doubles the title of a heading that a page break moved.)
 
 The PDF goes to ``book/_build/pdf/sunset-book.pdf`` unless ``--out`` says
 otherwise. Then ``book/pdf_check.py`` checks it (the outline, the contents'
@@ -38,7 +41,6 @@ from __future__ import annotations
 
 import argparse
 import io
-import re
 import sys
 import time
 from pathlib import Path
@@ -54,7 +56,7 @@ DEFAULT_OUT = BOOK / "_build" / "pdf" / "sunset-book.pdf"
 PRINT_CSS = BOOK / "pdf.css"
 #: Prints at most, until no heading moves between two prints.
 MAX_PRINTS = 4
-#: Chromium's print scale (the HTML book's 14 px text at 0.9 is about 9.5 pt on A4).
+#: Chromium's print scale (the text's 16 px at 0.9 is about 10.8 pt on A4).
 SCALE = 0.9
 
 #: Runs in the page before the first print (argument: the parts of the table of contents):

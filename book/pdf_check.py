@@ -50,8 +50,6 @@ import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import yaml
-
 BOOK = Path(__file__).resolve().parent
 #: The part of a page above its text area and below it, in points (book/pdf.css: 18 mm margins).
 MARGIN_PT = 18 / 25.4 * 72
@@ -93,6 +91,8 @@ def heading_words(inner: str) -> tuple[str, ...]:
 
 def toc() -> tuple[str, list[dict]]:
     """The root page and the parts of book/_toc.yml."""
+    import yaml
+
     data = yaml.safe_load((BOOK / "_toc.yml").read_text(encoding="utf-8"))
     return data["root"], [{"caption": p["caption"], "files": [c["file"] for c in p["chapters"]]}
                           for p in data["parts"]]
@@ -407,6 +407,8 @@ def check_breaks(pdf: Printed, single: str, result: Result) -> None:
 
 def check(pdf_path: Path, html: Path, single_html: Path) -> Result:
     """Every check of this module on the PDF ``pdf_path`` printed from ``single_html``."""
+    import yaml
+
     result = Result()
     single = single_html.read_text(encoding="utf-8")
     title = yaml.safe_load((BOOK / "_config.yml").read_text(encoding="utf-8"))["title"]
