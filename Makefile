@@ -23,7 +23,7 @@ UV          := .venv-lock/bin/uv
 UV_COMPILE  = $(UV) pip compile pyproject.toml --universal --python-version $(LOCK_PYTHON) --generate-hashes \
               --quiet --custom-compile-command 'make lock' $(LOCK_FLAGS)
 
-.PHONY: all figures test book book-check pdf bench bench-player lock clean help
+.PHONY: all figures test book book-check lab explore-check pdf bench bench-player lock clean help
 .DELETE_ON_ERROR:
 
 help:
@@ -32,6 +32,8 @@ help:
 	@echo "make test      run the test suite"
 	@echo "make book      build the Jupyter Book into book/_build/html (BOOK_EXECUTE=force re-runs every chapter)"
 	@echo "make book-check  open every page of the built book in headless Chromium and check it"
+	@echo "make lab       JupyterLab on book/, offline: every chapter opens as a notebook (and sunset.explore())"
+	@echo "make explore-check  make lab's server and sunset.explore() driven in headless Chromium"
 	@echo "make pdf       the whole book as one PDF with bookmarks and a paged contents, book/_build/pdf/sunset-book.pdf, checked (Chromium, offline)"
 	@echo "make bench     time the renderer (writes figures/bench.json)"
 	@echo "make bench-player  time the colour-table player in headless Chromium (figures/player-bench.json)"
@@ -106,6 +108,14 @@ book: $(VENV)/.stamp-book
 
 book-check: $(VENV)/.stamp-book
 	$(PY) book/browser_check.py book/_build/html
+
+# JupyterLab on the chapters (jupytext), run in the build's kernel settings (book/lab.py).
+lab: $(VENV)/.stamp-book
+	$(PY) book/lab.py
+
+# make lab's server, a chapter run through jupytext, and sunset.explore() in Chromium (book/explore_check.py).
+explore-check: $(VENV)/.stamp-book
+	$(PY) book/explore_check.py
 
 # The PDF's check compares its numbering with the HTML book's, so the HTML book comes first.
 pdf: $(BOOK_STAMP) $(VENV)/.stamp-book

@@ -243,3 +243,20 @@ def test_explore_checks_its_arguments():
         sunset.explore(hours=13.0)
     with pytest.raises(sunset.SunsetError, match="shading must be one of"):
         sunset.explore(shading="oil")
+
+
+def test_a_slider_echoing_its_first_value_on_its_grid_changes_nothing(explorer):
+    """A slider's front end sends back min + k·step: −6.800000000000001 for the pitch −6.8 (−30 + 232 × 0.1)."""
+    first = explorer.picture
+    for name in ("pitch", "hours", "trains[0].direction", "azimuth"):
+        c = explorer.controls[name]
+        k = round((c.value - c.min) / c.step)
+        echoed = c.min + k * c.step
+        c.value = echoed
+    assert explorer.controls["pitch"].value == -30.0 + 232 * 0.1 != -6.8
+    assert explorer.wait(60) and explorer.serial == 1 and explorer.picture is first
+    explorer.controls["pitch"].value = -3.0                 # moved, and back onto the grid near its first value
+    assert explorer.wait(60) and explorer.serial == 2
+    explorer.controls["pitch"].value = -30.0 + 232 * 0.1
+    assert explorer.wait(60) and explorer.serial == 3
+    assert explorer.picture.view.pitch == -6.8 and np.array_equal(explorer.picture.rgb, first.rgb)

@@ -39,7 +39,8 @@ def test_make_clean_removes_everything_make_wrote_and_keeps_the_sources(tmp_path
 def test_make_help_lists_every_documented_target():
     out = subprocess.run(["make", "-s", "-C", str(ROOT), "help"], capture_output=True, text=True, timeout=60,
                          check=True).stdout
-    for target in ("all", "figures", "test", "book", "book-check", "pdf", "bench", "bench-player", "lock", "clean"):
+    for target in ("all", "figures", "test", "book", "book-check", "lab", "explore-check", "pdf", "bench",
+                   "bench-player", "lock", "clean"):
         assert f"make {target} " in out, target
 
 

@@ -25,6 +25,7 @@ function render({ model, el }) {
     const png = model.get("png");
     const width = model.get("width");
     img.style.width = width + "px";
+    box.style.width = width + "px";
     if (!png || png.byteLength === 0) return;
     const next = URL.createObjectURL(new Blob([png], { type: "image/png" }));
     img.src = next;

@@ -27,10 +27,12 @@ from .picture import Picture, Renderer, png_for_screen, readout, scene_text
 from .settings import Start, TrainControl, View
 from .worker import Latest
 
-__all__ = ["PictureView", "Explorer", "RUNG_MAX"]
+__all__ = ["PictureView", "Explorer", "RUNG_MAX", "SNAP"]
 
 #: The highest rung a train's slider offers (λ₁/16² = λ₁/256).
 RUNG_MAX = 16
+#: A slider's value this close to its first value (relative, or absolute below 1) is its first value.
+SNAP = 1e-9
 
 
 class PictureView(anywidget.AnyWidget):
@@ -121,20 +123,37 @@ class Explorer(w.HBox):
                         w.HTML("<b>The picture</b>"), c["reflections"], c["shading"],
                         w.HBox([self.file, self.save_button]), self.saved])
         super().__init__([w.VBox([self.image, self.status]), panel])
-        self._worker.submit(self.settings())
+        self._submitted = self.settings()
+        self._worker.submit(self._submitted)
 
     # -- the controls -----------------------------------------------------------------
     def settings(self) -> View:
-        """The controls' values now, as a :class:`~sunset.explorer.settings.View`."""
-        c = self.controls
-        trains = tuple(TrainControl(c[f"trains[{i}].amplitude"].value, c[f"trains[{i}].rung"].value,
-                                    c[f"trains[{i}].direction"].value) for i in range(len(self.start.view.trains)))
-        return View(hours=c["hours"].value, t=c["t"].value, azimuth=c["azimuth"].value, trains=trains,
-                    eye_height=c["eye_height"].value, heading=c["heading"].value, pitch=c["pitch"].value,
-                    reflections=c["reflections"].value, shading=c["shading"].value, seed=self.start.view.seed)
+        """The controls' values now, as a :class:`~sunset.explorer.settings.View`.
+
+        A slider's front end puts its value on its grid (min + k·step, in
+        floating point) and sends it back: −6.800000000000001 for −6.8. A value
+        within :data:`SNAP` of the control's first value is taken as that value,
+        so that a slider left alone leaves the scene's own number (and its
+        picture) as they were.
+        """
+        c, v0 = self.controls, self.start.view
+
+        def value(name: str, first):
+            v = c[name].value
+            return first if isinstance(v, float) and abs(v - first) <= SNAP * max(1.0, abs(first)) else v
+
+        trains = tuple(TrainControl(value(f"trains[{i}].amplitude", tc.amplitude), c[f"trains[{i}].rung"].value,
+                                    value(f"trains[{i}].direction", tc.direction)) for i, tc in enumerate(v0.trains))
+        return View(hours=value("hours", v0.hours), t=value("t", v0.t), azimuth=value("azimuth", v0.azimuth),
+                    trains=trains, eye_height=value("eye_height", v0.eye_height), heading=value("heading", v0.heading),
+                    pitch=value("pitch", v0.pitch), reflections=c["reflections"].value, shading=c["shading"].value,
+                    seed=v0.seed)
 
     def _changed(self, _change=None) -> None:
-        self._worker.submit(self.settings())
+        view = self.settings()
+        if view != self._submitted:          # a front end's echo of the same settings renders nothing
+            self._submitted = view
+            self._worker.submit(view)
 
     # -- the render thread's answers -----------------------------------------------------
     def _deliver(self, view: View, picture: Picture | None, error: BaseException | None) -> None:
