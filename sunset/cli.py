@@ -56,8 +56,8 @@ EXAMPLES = {
 ENVIRONMENT = """environment variables:
   SUNSET_WORKERS=N    processes that render a film's frames when --jobs is not given
                       (default: every CPU this process may use)
-  SUNSET_COMPILED=0   render with the NumPy kernels instead of the compiled (Numba)
-                      twins; the results are bit-identical, only slower
+  SUNSET_COMPILED=0   the NumPy kernels, not the compiled (Numba) twins: slower, the same
+                      pictures within the tests' tolerances; each output records the path
 
 Progress bars are drawn only when stderr is a terminal; --quiet turns them
 and the log lines off. `sunset info` prints the versions every output records."""

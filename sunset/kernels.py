@@ -168,7 +168,8 @@ def twin(module: str, numpy_trig: bool = False):
         @functools.wraps(reference)
         def kernel(*args, **kwargs):
             if _state["on"] and (not numpy_trig or compiled_trig()):
-                return compiled()(*args, **kwargs)
+                return _compiled_or_fall_back(reference, compiled, args, kwargs)
+            _say_why_numpy()
             return reference(*args, **kwargs)
 
         kernel.reference = reference
@@ -289,3 +290,109 @@ def keep_freed_memory() -> bool:
         return False
     m_trim_threshold, m_mmap_threshold = -1, -3
     return bool(mallopt(m_mmap_threshold, KEEP_BLOCK_BYTES)) and bool(mallopt(m_trim_threshold, KEEP_BLOCK_BYTES))
+
+
+# --------------------------------------------------------------------------- which path ran: said, and recorded
+__all__ += ["path", "fallbacks"]
+
+
+def _shared_page():
+    """A page shared with the processes this one forks later (a run's lanes and workers), so that what one of
+    them says on stderr is said once per run and every output's provenance sees every fallback."""
+    import mmap
+
+    try:
+        return mmap.mmap(-1, 1 << 14)
+    except (OSError, ValueError):              # pragma: no cover - no anonymous shared memory: this process only
+        return bytearray(1 << 14)
+
+
+_record = _shared_page()           # byte 0: the NumPy path was announced; then "family\treason\n" entries
+_record_lock = threading.Lock()
+_fallen: dict[str, str] = {}       # this process's fallbacks (also where the shared page is full)
+
+
+def _why_numpy() -> str | None:
+    """Why the whole run takes the NumPy kernels (the environment's reason), or None."""
+    if not AVAILABLE:
+        return "numba missing"
+    if os.environ.get("SUNSET_COMPILED", "1") == "0":
+        return "SUNSET_COMPILED=0"
+    return None
+
+
+def _say(line: str) -> None:
+    import sys
+
+    print(f"sunset: {line}", file=sys.stderr, flush=True)
+
+
+def _say_why_numpy() -> None:
+    """Where Numba is missing, say once per run that the NumPy kernels run (``SUNSET_COMPILED=0``, the user's
+    own choice, and a test's :func:`use_compiled` say nothing; both are recorded by :func:`path`)."""
+    if _record[0] or AVAILABLE:
+        return
+    with _record_lock:
+        if not _record[0]:
+            _record[0] = 1
+            _say("Numba is not installed: the NumPy kernels run (the same pictures within the tests' tolerances, "
+                 "several times slower)")
+
+
+def fallbacks() -> dict[str, str]:
+    """The kernel families (``light.kernel``, ...) whose compiled kernels failed in this run, and why."""
+    if not _record[1] and not _fallen:
+        return {}
+    text = bytes(_record[1:]).split(b"\0", 1)[0].decode("utf-8", "replace")
+    return {**dict(line.split("\t", 1) for line in text.splitlines() if "\t" in line), **_fallen}
+
+
+def _fall_back(family: str, exc: BaseException) -> None:
+    """Record that ``family`` runs its NumPy kernels from now on, and say so once per run."""
+    reason = f"compilation failed: {type(exc).__name__}"
+    with _record_lock:
+        if family in fallbacks():
+            return
+        end = 1 + bytes(_record[1:]).find(b"\0")
+        entry = f"{family}\t{reason}\n".encode()
+        if 0 < end and end + len(entry) < len(_record):
+            _record[end:end + len(entry)] = entry
+        _fallen[family] = reason
+    _say(f"the compiled kernels of {family} could not be compiled ({type(exc).__name__}: "
+         f"{str(exc).strip().splitlines()[0][:120] if str(exc).strip() else 'no message'}); "
+         "their NumPy kernels run instead, more slowly")
+
+
+def _family(reference) -> str:
+    return reference.__module__.removeprefix("sunset.")
+
+
+def _compiled_or_fall_back(reference, compiled, args, kwargs):
+    """The twin's result; where it cannot be loaded or compiled, the reference's, said and recorded once."""
+    family = _family(reference)
+    if not (_record[1] or _fallen) or family not in fallbacks():
+        try:
+            fn = compiled()
+            return fn(*args, **kwargs)
+        except ImportError as exc:
+            _fall_back(family, exc)
+        except Exception as exc:        # Numba's compile errors; a kernel's own errors pass on unchanged
+            if _numba is None or not isinstance(exc, _numba.core.errors.NumbaError):
+                raise
+            _fall_back(family, exc)
+    return reference(*args, **kwargs)
+
+
+def path() -> str:
+    """The path the kernels took in this run, for ``sunset info``, the bench and every output's provenance.
+
+    ``"compiled"``; ``"numpy (numba missing)"``, ``"numpy (SUNSET_COMPILED=0)"`` or ``"numpy (switched off)"``
+    (:func:`use_compiled`); or ``"mixed: compiled, numpy for light.kernel (compilation failed: TypingError)"``
+    when some families fell back (:func:`fallbacks`).
+    """
+    if not _state["on"]:
+        return f"numpy ({_why_numpy() or 'switched off'})"
+    fell = fallbacks()
+    if not fell:
+        return "compiled"
+    return "mixed: compiled, numpy for " + "; ".join(f"{k} ({v})" for k, v in sorted(fell.items()))

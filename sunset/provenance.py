@@ -1,12 +1,14 @@
 """What made an output: the versions every file this package writes records.
 
-Every PNG (the rendered frames and the matplotlib figures), the MP4 and the
-tape carry :func:`provenance`: the versions of sunset, Python, NumPy, Numba and
-colour-science. ``sunset info`` prints it with the rest of
-:func:`environment` (which kernels render, the platform, the settings).
-Nothing in it changes from run to run on one machine (no time, no host name,
-not even the kernels, whose results are bit-identical), so outputs stay
-byte-identical.
+Every PNG (the rendered frames and the matplotlib figures), the MP4, the
+tape and the player's page carry :func:`provenance`: the versions of sunset,
+Python, NumPy, Numba and colour-science, and the path the kernels took
+(:func:`sunset.kernels.path`: ``compiled``, ``numpy (numba missing)``,
+``numpy (SUNSET_COMPILED=0)`` or ``mixed: ...`` where some compiled kernels
+fell back), since the two paths agree within tolerances, not to the bit.
+``sunset info`` prints it with the rest of :func:`environment` (the platform,
+the settings). Nothing in it changes from run to run on one machine and
+path (no time, no host name), so outputs stay byte-identical.
 
 The versions are read from the installed packages' metadata, not by importing
 them (importing Numba takes a second).
@@ -41,30 +43,32 @@ def package_version(distribution: str) -> str:
 
 
 def _kernels() -> str:
-    """Which kernels render now: ``"numba"`` (the compiled twins) or ``"numpy"``.
+    """The path the kernels took: :func:`sunset.kernels.path` (``compiled``, ``numpy (...)``, ``mixed: ...``).
 
     Asked of the kernel switch when it is loaded (it is, whenever a frame was
-    rendered); otherwise what it will choose: Numba unless ``SUNSET_COMPILED=0``
-    or Numba is not installed. Numba itself is not imported.
+    rendered); otherwise what it will choose, without importing Numba:
+    ``numpy (SUNSET_COMPILED=0)``, ``numpy (numba missing)`` or ``compiled``
+    (a kernel that fails to compile is found only when it is first used).
     """
-    for name in ("sunset.kernels",):
-        switch = sys.modules.get(name)
-        if switch is not None and callable(getattr(switch, "enabled", None)):
-            return "numba" if switch.enabled() else "numpy"
-    off = os.environ.get("SUNSET_COMPILED", "1") == "0" or package_version("numba") == "not installed"
-    return "numpy" if off else "numba"
+    switch = sys.modules.get("sunset.kernels")
+    if switch is not None and callable(getattr(switch, "path", None)):
+        return switch.path()
+    if os.environ.get("SUNSET_COMPILED", "1") == "0":
+        return "numpy (SUNSET_COMPILED=0)"
+    return "numpy (numba missing)" if package_version("numba") == "not installed" else "compiled"
 
 
 def provenance() -> dict[str, str]:
-    """The versions that made an output: sunset, Python, NumPy, Numba, colour-science.
+    """What made an output: the versions of sunset, Python, NumPy, Numba, colour-science, and the kernels' path.
 
     >>> list(provenance())
-    ['sunset', 'python', 'numpy', 'numba', 'colour-science']
+    ['sunset', 'python', 'numpy', 'numba', 'colour-science', 'kernels']
     """
     out = {"sunset": package_version(DISTRIBUTION), "python": platform.python_version()}
     for shown, dist in RECORDED.items():
         if shown != "sunset":
             out[shown] = package_version(dist)
+    out["kernels"] = _kernels()
     return out
 
 
@@ -98,8 +102,9 @@ def stamped(metadata: dict[str, str] | None = None) -> dict[str, str]:
 
 def environment() -> dict[str, str]:
     """Everything ``sunset info`` prints: :func:`provenance`, more packages, the platform and the settings."""
+    from . import kernels  # noqa: F401 - loaded, the kernels' path is the switch's (is Numba importable?)
+
     env = dict(provenance())
-    env["kernels"] = _kernels()
     for dist in ALSO_LISTED:
         env[dist] = package_version(dist)
     env["platform"] = platform.platform()

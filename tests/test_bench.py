@@ -43,7 +43,7 @@ def test_json_holds_every_measurement(report):
     assert cycle == {"coded", "filmed", "total"}
     for key in ("cpu", "cpus", "python", "numpy", "numba", "date"):
         assert key in data["machine"]
-    assert data["compiled"] is True
+    assert data["compiled"] is True and data["kernels"] == "compiled"      # the path the frame's kernels took
     assert data["profile"] and all(0 <= p["share"] <= 1 for p in data["profile"])
 
 

@@ -25,8 +25,11 @@ from sunset.tape.tapefile import Tape, parse_tape, read_tape, tape_bytes, write_
 
 
 def test_provenance_reads_the_installed_versions():
+    from sunset import kernels
+
     p = provenance()
-    assert list(p) == ["sunset", "python", "numpy", "numba", "colour-science"]
+    assert list(p) == ["sunset", "python", "numpy", "numba", "colour-science", "kernels"]
+    assert p["kernels"] == kernels.path() == ("compiled" if kernels.enabled() else "numpy (SUNSET_COMPILED=0)")
     assert p["sunset"] == metadata.version(DISTRIBUTION)
     assert p["python"] == platform.python_version()
     for name in ("numpy", "numba", "colour-science"):
@@ -36,8 +39,12 @@ def test_provenance_reads_the_installed_versions():
 
 
 def test_environment_adds_the_kernels_and_settings():
+    from sunset import kernels
+
     env = environment()
-    assert env["kernels"] in ("numba", "numpy")
+    assert env["kernels"] == kernels.path()
+    with kernels.use_compiled(False):
+        assert environment()["kernels"] == provenance()["kernels"] == "numpy (switched off)"
     assert {"platform", "SUNSET_WORKERS", "SUNSET_COMPILED"} <= set(env)
 
 
@@ -189,3 +196,87 @@ def test_every_image_the_package_saves_goes_through_a_recording_writer():
         assert name in allowed and kinds <= allowed[name], f"sunset/{name} saves an image itself: {kinds}"
     film = (package / "recorder" / "film.py").read_text(encoding="utf-8")
     assert film.count("exif=preview_exif()") == 1 and film.count("comment=provenance_json()") == 1
+
+
+# --------------------------------------------------------------------------- the path that ran: nothing silent
+def _run(tmp_path, env_extra, code=None, rgb=False, pythonpath=None):
+    """A fresh ``sunset render`` (or ``code``) with ``env_extra``; returns (stderr lines, the PNG's provenance)."""
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k != "SUNSET_COMPILED"}
+    env.update(env_extra)
+    if pythonpath:
+        env["PYTHONPATH"] = os.pathsep.join([str(pythonpath)] + [p for p in [env.get("PYTHONPATH")] if p])
+    out = tmp_path / "a.png"
+    argv = ["render", "carlas-island", "--size", "24x16", "-o", str(out), "-q"] + (["--shading", "rgb"] if rgb else [])
+    prog = (code or "") + f"\nimport sys\nfrom sunset.cli import main\nsys.exit(main({argv!r}))\n"
+    run = subprocess.run([sys.executable, "-c", prog], env=env, capture_output=True, text=True, timeout=600,
+                         cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    with Image.open(out) as im:
+        made = json.loads(im.text["sunset:provenance"])
+    info = subprocess.run([sys.executable, "-c", (code or "") + "\nfrom sunset.cli import main\nmain(['info'])"],
+                          env=env, capture_output=True, text=True, timeout=600, cwd=tmp_path)
+    assert info.returncode == 0 and info.stderr == "", info.stderr
+    kernels_line = [line for line in info.stdout.splitlines() if line.split()[:1] == ["kernels"]]
+    return run.stderr.splitlines(), made["kernels"], kernels_line[0].split(None, 1)[1]
+
+
+def test_sunset_compiled_0_is_recorded_and_not_said(tmp_path):
+    """The user's own choice: nothing on stderr (a read-only install's run must stay quiet), in the record."""
+    err, made, info = _run(tmp_path, {"SUNSET_COMPILED": "0"}, rgb=True)
+    assert err == []
+    assert made == info == "numpy (SUNSET_COMPILED=0)"
+
+
+def test_numba_missing_is_said_once_and_recorded(tmp_path):
+    """A ``numba`` on the path whose import fails, as where Numba is not installed."""
+    fake = tmp_path / "fake"
+    (fake / "numba").mkdir(parents=True)
+    (fake / "numba" / "__init__.py").write_text("raise ImportError('no numba here')\n")
+    err, made, info = _run(tmp_path, {}, rgb=True, pythonpath=fake)
+    assert len(err) == 1 and err[0].startswith("sunset: Numba is not installed: the NumPy kernels run"), err
+    assert made == info == "numpy (numba missing)"
+
+
+def test_a_kernel_that_does_not_compile_is_said_once_and_recorded(tmp_path):
+    """The RGB shader's island kernel replaced by one that Numba cannot type: its family falls back, the rest
+    stay compiled; the picture is still made."""
+    code = ("import numba\n"
+            "import sunset.light.kernel_numba as kn\n"
+            "@numba.njit\n"
+            "def _bad(x):\n"
+            "    return x.no_such_attribute\n"
+            "kn.island_pixels = lambda normals, *rest: _bad(normals)\n")
+    err, made, info = _run(tmp_path, {}, code=code, rgb=True)
+    assert len(err) == 1, err
+    assert err[0].startswith("sunset: the compiled kernels of light.kernel could not be compiled (TypingError")
+    assert made == "mixed: compiled, numpy for light.kernel (compilation failed: TypingError)"
+    assert info == "compiled"        # another process: nothing failed there (a failure is found when first used)
+
+
+def test_a_kernels_own_error_is_raised_not_taken_for_a_compile_failure(monkeypatch):
+    import sys
+    import types
+
+    from sunset import kernels
+
+    fake = types.ModuleType("sunset_fake_twin")
+
+    def k(x):
+        raise ValueError(f"bad x: {x}")
+
+    fake.k = k
+    monkeypatch.setitem(sys.modules, "sunset_fake_twin", fake)
+
+    @kernels.twin("sunset_fake_twin")
+    def k(x):  # noqa: F811 - the reference of the fake twin
+        return "the reference"
+
+    with kernels.use_compiled(True), pytest.raises(ValueError, match="bad x: 3"):
+        k(3)
+    assert kernels.fallbacks() == {} and kernels.path() == "compiled"
+    with kernels.use_compiled(False):
+        assert k(3) == "the reference"

@@ -225,7 +225,7 @@ def _child(args) -> None:
     result = MEASUREMENTS[args.measure](args.width, args.height, args.repeats)
     from .. import kernels
 
-    print(json.dumps({"times": result, **_peak(), "compiled": kernels.enabled()}))
+    print(json.dumps({"times": result, **_peak(), "compiled": kernels.enabled(), "kernels": kernels.path()}))
 
 
 def _peak() -> dict:
@@ -315,11 +315,11 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     rows.append(_row(f"brute-force ray caster {brute_size}x{brute_size} (direct rays)", "total",
                      brute["times"]["total"], brute_size * brute_size, brute))
 
-    compiled_on = None
+    compiled_on = path_taken = None
     for w, h in frame_sizes:
         log(f"Figure 6 frame at {w}x{h} ...")
         res = measure("frame", w, h, repeats)
-        compiled_on = res["compiled"]
+        compiled_on, path_taken = res["compiled"], res["kernels"]
         for stage, times in res["times"].items():
             rows.append(_row(f"Figure 6 frame {w}x{h}", stage, times, w * h, res))
     w, h = frame_sizes[-1]
@@ -358,7 +358,7 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         r["cray1_ratio"] = CRAY1_SECONDS_FIGURE6 / r["median_s"] if figure6 else None
         r["brute_ratio"] = brute_per_px * r["pixels"] / r["median_s"]
 
-    report = {"machine": mach, "compiled": compiled_on, "repeats": repeats,
+    report = {"machine": mach, "compiled": compiled_on, "kernels": path_taken, "repeats": repeats,
               "cray1_seconds": CRAY1_SECONDS_FIGURE6, "brute_seconds_per_pixel": brute_per_px,
               "brute_size": brute_size, "rows": rows, "threads": os.cpu_count()}
     memory = []

@@ -48,14 +48,13 @@ PAPER_FIGURES = {
 
 
 def png_metadata(scene: Scene, settings: dict) -> dict[str, str]:
-    """Provenance written into every PNG: the scene, the settings, the versions (:mod:`sunset.provenance`)."""
-    from ..provenance import provenance_json
-
+    """What every PNG records of its making: the scene and the settings; the writer adds the versions and the
+    kernels' path when it writes (:func:`sunset.provenance.stamped`: after the picture is made, so the path is
+    the one its kernels took)."""
     return {
         "Software": f"sunset {__version__}",
         "sunset:settings": json.dumps(settings, sort_keys=True),
         "sunset:scene": scene.to_toml(),
-        "sunset:provenance": provenance_json(),
     }
 
 
