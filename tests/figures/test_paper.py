@@ -3,6 +3,7 @@
 import hashlib
 
 import numpy as np
+import pytest
 from PIL import Image
 
 from sunset.recorder.dicomed import expose
@@ -57,3 +58,52 @@ def test_figures_are_byte_identical_across_runs(tmp_path):
         files = [paper.paper_figure(n, out, scene) for n in ("4", "5", "6", "7")] + [out / "fig6.tape"]
         runs.append([_sha(f) for f in files])
     assert runs[0] == runs[1]
+
+
+# --------------------------------------------------------------------------- the two kernel paths' figures
+def _figures(scene, names, compiled, out):
+    from sunset import kernels
+    from sunset.figures.rgb import rgb_figure6
+
+    (out / "again").mkdir(parents=True)
+    with kernels.use_compiled(compiled):
+        files = [paper.paper_figure(n, out, scene) if n != "rgb6" else rgb_figure6(out / "rgb6.png", scene)
+                 for n in names]
+        again = [paper.paper_figure(n, out / "again", scene) if n != "rgb6" else
+                 rgb_figure6(out / "again" / "rgb6.png", scene) for n in names[:1]]
+    assert _sha(again[0]) == _sha(files[0])                      # each path: the same bytes every time
+    return [np.asarray(Image.open(f).convert("RGB")) for f in files]
+
+
+@pytest.mark.parametrize("name, figures", [
+    ("carlas-island", ("4", "5", "6", "7", "rgb6")), ("carlas-island-clouds", ("6", "rgb6")),
+    ("archipelago-at-dusk", ("6",)), ("post-in-the-swell", ("6",)), ("still-lake-at-noon", ("6",)),
+    ("storm-swell", ("6",))])
+def test_the_figures_of_both_paths_agree_within_the_stated_tolerance(name, figures, tmp_path):
+    """The compiled path's figures against the NumPy path's (the reference): at most FIGURE_DIFFER_SHARE of the
+    pixels differ, none by more than FIGURE_MAX_DE00 (CIEDE2000); not the same bytes, which only one path promises."""
+    from sunset.light.palette import FIGURE_DIFFER_SHARE, FIGURE_MAX_DE00, picture_agreement
+
+    scene = Scene.named(name).with_size(128, 128)
+    want_got = zip(_figures(scene, figures, False, tmp_path / "numpy"), _figures(scene, figures, True, tmp_path / "nb"))
+    for fig, (want, got) in zip(figures, want_got):
+        agree = picture_agreement(got, want)
+        assert agree["differ"] <= FIGURE_DIFFER_SHARE and agree["max_de00"] <= FIGURE_MAX_DE00, (fig, agree)
+
+
+def test_the_figures_tolerance_sees_a_visible_change():
+    """picture_agreement on a picture and itself with one pixel a little off, and with a colour cast."""
+    from sunset.light.palette import FIGURE_DIFFER_SHARE, FIGURE_MAX_DE00, picture_agreement
+
+    rng = np.random.default_rng(4)
+    a = rng.integers(0, 256, (100, 100, 3), dtype=np.uint8)
+    assert picture_agreement(a, a) == {"pixels": 10_000, "differ": 0.0, "visible": 0.0, "max_de00": 0.0}
+    b = a.copy()
+    b[7, 9] = (0, 0, 0) if a[7, 9].sum() > 300 else (255, 255, 255)
+    agree = picture_agreement(a, b)
+    assert agree["differ"] == 1e-4 <= FIGURE_DIFFER_SHARE and agree["max_de00"] > FIGURE_MAX_DE00
+    cast = np.clip(a.astype(int) + [6, 0, 0], 0, 255).astype(np.uint8)
+    agree = picture_agreement(a, cast)
+    assert agree["differ"] > FIGURE_DIFFER_SHARE and agree["visible"] > 0.5
+    with pytest.raises(ValueError, match="one shape"):
+        picture_agreement(a, a[:-1])
