@@ -263,9 +263,12 @@ def print_book(html: Path) -> tuple[bytes, int, dict]:
         report = page.evaluate(PREPARE, {"parts": parts, "book": book_title()})
         ids = [e["id"] for e in report["entries"]]
         pages: dict[str, int] = {}
+        report["print_s"] = []
         for prints in range(1, MAX_PRINTS + 1):
             page.evaluate(FILL, pages)
+            t0 = time.perf_counter()
             pdf = page.pdf(prefer_css_page_size=True, print_background=True, scale=SCALE, tagged=True)
+            report["print_s"].append(time.perf_counter() - t0)
             found = pdf_check.destination_pages(pdf_check.reader(io.BytesIO(pdf)), ids)
             if found == pages:
                 break
@@ -350,8 +353,8 @@ def main(argv: list[str] | None = None) -> int:
     problems += result.problems
     print(f"pdf.py: {out} ({result.pages} pages, {out.stat().st_size / 1e6:.1f} MB, {report['images']} images, "
           f"{report['math']} formulas, {len(report['entries'])} headings in the contents, {bookmarks} bookmarks; "
-          f"{prints} prints) in {printed:.1f} s, checked in {time.perf_counter() - start - printed:.1f} s",
-          flush=True)
+          f"{prints} prints: {', '.join(f'{t:.0f}' for t in report['print_s'])} s) in {printed:.1f} s, "
+          f"checked in {time.perf_counter() - start - printed:.1f} s", flush=True)
     for line in result.lines:
         print(f"pdf.py: {line}", flush=True)
     for p in problems:

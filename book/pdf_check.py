@@ -68,7 +68,6 @@ class Entry:
     level: int
     kind: str
     words: tuple[str, ...]
-    children: list = field(default_factory=list)
 
     @property
     def title(self) -> str:
@@ -150,9 +149,10 @@ class Printed:
         self.dests = destinations(self.reader)
         self.runs: list[list[tuple[float, float, str]]] = []
         self.images: list[list[tuple[float, float, float, float]]] = []
-        for page in self.reader.pages:
+        for (w, h), page in zip(self.box, self.reader.pages):
             runs, images = read_page(page)
-            self.runs.append(runs)
+            # (text drawn off the page is not seen: the print of an element moved off screen)
+            self.runs.append([r for r in runs if 0 <= r[0] <= w and 0 <= r[1] <= h])
             self.images.append(images)
         self.outline = flat_outline(self.reader)
 

@@ -34,8 +34,10 @@ SINGLE = """<html><body><div id="jb-print-docs-body"><h2> Contents </h2></div>
 </section>
 <span id="document-02-b"></span><section class="tex2jax_ignore" id="the-b">
 <span id="label-b"></span><h2><span class="section-number">2. </span>The B</h2>
-<section id="where"><h3><span class="section-number">2.1. </span>Where to sample: <span class="math notranslate nohighlight">\\(\\sigma\\)</span> and more</h3>
-<figure class="align-default" id="fig-b"><img src="b.png"><figcaption><p><span class="caption-number">Figure 2.1 </span>B.</p></figcaption></figure>
+<section id="where"><h3><span class="section-number">2.1. </span>Where to sample:
+<span class="math notranslate nohighlight">\\(\\sigma\\)</span> and more</h3>
+<figure class="align-default" id="fig-b"><img src="b.png">
+<figcaption><p><span class="caption-number">Figure 2.1 </span>B.</p></figcaption></figure>
 </section>
 <section id="exercises"><h3><span class="section-number">2.2. </span>Exercises</h3></section>
 </section>
