@@ -288,6 +288,10 @@ POST_MAX_COUNT = 16
 RIPPLE_BANDWIDTH_TEXELS = 1.5
 RIPPLE_MAX_RAYS = 1 << 23
 RIPPLE_MAX_REACH = 80.0
+#: The beams' side on the water for the wavefront tracer of the ripples, metres, and the most corners its mesh
+#: takes by default (a larger patch gets larger cells: sunset/light/ripples.py, sunset/light/caustics.py).
+RIPPLE_CELL = 0.05
+RIPPLE_MESH = 1 << 18
 #: How many rms slopes the water patch allows for (sunset/light/ripples.py).
 RIPPLE_SLOPE_SIGMAS = 2.0
 #: How far inland of the mean water line an island's shore band runs, metres (sunset/light/shore.py).

@@ -7,10 +7,11 @@ sun and shadows its glitter, and again once the sun has climbed back above it
 frame and hours from the RGB back end (:mod:`sunset.light`).
 
 ``ripples.png``: the light that the rippled water throws onto a post standing
-in it (the packaged scene ``post-in-the-swell``), traced from the sun
-(:func:`sunset.light.ripples.trace_ripples`): the post's side unrolled
-(azimuth across, height up, the water line marked), at four times of the wave
-cycle, beside still water's flat band.
+in it (the packaged scene ``post-in-the-swell``), traced from the sun as a
+mesh of beams (:func:`sunset.light.ripples.trace_ripples`): the post's side
+unrolled (azimuth across, height up, the water line marked) at four times of
+the wave cycle, the caustics' sharp lines moving over it, beside the photon
+estimate of the first moment for about the same work.
 """
 
 from __future__ import annotations
@@ -26,11 +27,14 @@ from ..model.scene import Scene, load_named_scene
 
 #: Hours before sunset of the two exposures of clouds.png: the sun behind a cloud, and above it.
 CLOUD_HOURS = (0.28, 0.45)
-#: The scene of the ripples, the hour of its sun, the rays per texture and the texels up the post.
+#: The scene of the ripples, the hour of its sun (20° high: sunlight refracted down the post under water and
+#: reflected up it above), the beams' side on the water (m), the photons of the comparison (about the beams'
+#: work) and the texels up the post.
 RIPPLE_SCENE = "post-in-the-swell"
-RIPPLE_HOURS = 1.0
-RIPPLE_RAYS = 1 << 18
-RIPPLE_TEXELS = 32
+RIPPLE_HOURS = 2.0
+RIPPLE_CELL = 0.05
+RIPPLE_RAYS = 1 << 21
+RIPPLE_TEXELS = 64
 
 
 def cloudy(scene: Scene) -> Scene:
@@ -75,49 +79,60 @@ def _pair(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.concatenate([a, gap, b], axis=1)
 
 
-def ripple_textures(scene: Scene | None = None, times=None, rays: int = RIPPLE_RAYS, texels: int = RIPPLE_TEXELS,
-                    seed: int = 0):
-    """The post's textures of light at ``times`` (default: four quarters of the wave cycle) and on still water."""
+def ripple_textures(scene: Scene | None = None, times=None, texels: int | None = None, method: str = "beams",
+                    cell: float | None = None, rays: int | None = None, seed: int = 0):
+    """The post's textures of light at ``times`` (default: four quarters of the wave cycle), by ``method``
+    (the beams' ``cell``, the photons' ``rays`` and the ``texels``: :data:`RIPPLE_CELL`, :data:`RIPPLE_RAYS`,
+    :data:`RIPPLE_TEXELS` by default)."""
     from ..light.ripples import trace_ripples
 
+    texels = RIPPLE_TEXELS if texels is None else texels
+    cell = RIPPLE_CELL if cell is None else cell
+    rays = RIPPLE_RAYS if rays is None else rays
     scene = load_named_scene(RIPPLE_SCENE) if scene is None else scene
     if times is None:
         times = [scene.sea.period * k / 4.0 for k in range(4)]
-    moving = [trace_ripples(scene, 0, float(t), RIPPLE_HOURS, rays, texels, seed=seed) for t in times]
-    still = trace_ripples(scene.still(), 0, 0.0, RIPPLE_HOURS, rays, texels, seed=seed)
-    return list(times), moving, still
+    textures = [trace_ripples(scene, 0, float(t), RIPPLE_HOURS, method=method, cell=cell, rays=rays, texels=texels,
+                              seed=seed) for t in times]
+    return list(times), textures
 
 
 def unrolled(tex, post) -> tuple[np.ndarray, tuple[float, float, float, float]]:
-    """The texture above and below the water as one image (rows top down), luminance of the light
-    relative to the direct sun, and its extent (arc length across, height up) for ``imshow``."""
-    below = tex.below.mean(axis=-1)
-    img = np.concatenate([tex.above[::-1], below[::-1]], axis=0)
-    arc = post.radius * 2.0 * math.pi
-    return img, (0.0, arc, float(tex.z_below[0] - 0.5 * (tex.z_below[1] - tex.z_below[0])),
-                 float(tex.z[-1] + 0.5 * (tex.z[1] - tex.z[0])))
+    """The texture above and below the water as one image (rows top down, each the reflected texel above the
+    mean water line and the refracted one, mean over λ, below it), irradiance relative to the direct sun, and
+    its extent (arc length across, height up) for ``imshow``."""
+    dz = tex.z[1] - tex.z[0]
+    top, foot = tex.z[-1] + 0.5 * dz, tex.z_below[0] - 0.5 * (tex.z_below[1] - tex.z_below[0])
+    rows = int(round((top - foot) / dz))
+    zc = top - (np.arange(rows) + 0.5) * (top - foot) / rows
+    ia = np.clip(np.searchsorted(tex.z - 0.5 * dz, zc, side="right") - 1, 0, len(tex.z) - 1)
+    zb_lo = tex.z_below - 0.5 * (tex.z_below[1] - tex.z_below[0])
+    ib = np.clip(np.searchsorted(zb_lo, zc, side="right") - 1, 0, len(tex.z_below) - 1)
+    img = np.where((zc >= 0)[:, None], tex.above[ia], tex.below.mean(axis=-1)[ib])
+    return img, (0.0, post.radius * 2.0 * math.pi, float(foot), float(top))
 
 
 def ripples_figure(path, seed: int = 0) -> Path:
-    """Write ``ripples.png``: the post's unrolled textures at four times of the cycle and on still water."""
+    """Write ``ripples.png``: the post's unrolled textures by beams at four times of the cycle, and by photons."""
     from matplotlib.figure import Figure
 
     scene = load_named_scene(RIPPLE_SCENE)
     post = scene.posts[0]
-    times, moving, still = ripple_textures(scene, seed=seed)
-    fig = Figure(figsize=(11.0, 4.2))
+    times, moving = ripple_textures(scene)
+    _, (photons,) = ripple_textures(scene, times=times[:1], method="photons", seed=seed)
+    fig = Figure(figsize=(11.0, 4.6))
     axes = fig.subplots(1, 5, sharey=True)
-    top = max(float(np.percentile(t.above, 99.5)) for t in moving)
-    for ax, tex, title in zip(axes, moving + [still],
-                              [f"t = {t:.2f} s" for t in times] + ["still water"]):
-        img, extent = unrolled(tex, post)
+    images = [unrolled(t, post) for t in moving + [photons]]
+    top = max(float(np.percentile(img, 99.0)) for img, _ in images[:-1])
+    titles = [f"beams, t = {t:.2f} s" for t in times] + [f"photons ({photons.rays:,}), t = {times[0]:.2f} s"]
+    for ax, (img, extent), title in zip(axes, images, titles):
         im = ax.imshow(img, extent=extent, origin="upper", aspect="auto", cmap="magma", vmin=0.0, vmax=top,
                        interpolation="nearest")
         ax.axhline(0.0, color="0.7", lw=0.8, ls="--")
-        ax.set_title(title, fontsize=9)
+        ax.set_title(title, fontsize=8.5)
         ax.set_xlabel("around the post, m")
     axes[0].set_ylabel("height above mean sea level, m")
     fig.colorbar(im, ax=list(axes), shrink=0.85, label="irradiance from the water / direct sun")
-    fig.suptitle(f"Ripples of light on a post {post.radius * 2:.1f} m thick, the sun {RIPPLE_HOURS:g} h "
-                 "before sunset: reflected light above the water line, refracted light below it", fontsize=10)
+    fig.suptitle(f"Ripples of light on a post {post.radius * 2:.1f} m thick, the sun {RIPPLE_HOURS:g} h before "
+                 "sunset: reflected light above the water line, refracted light below it", fontsize=10)
     return save_matplotlib(fig, path)

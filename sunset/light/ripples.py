@@ -1,13 +1,18 @@
-"""Ripples of light: sunlight reflected and refracted by the waves, gathered on a post (light tracing).
+"""Ripples of light: sunlight reflected and refracted by the waves onto a post, by beams and by photons.
 
 The paper's second proposal: "trace a family of sun rays meeting a small patch
 of water, and then trace the reflected and refracted rays until they pierce a
 small object extending above and below the water line", and average them
-into an array over the object's surface. This module does exactly that, for a
-:class:`~sunset.model.posts.Post`.
+into an array over the object's surface. This module does that for a
+:class:`~sunset.model.posts.Post`, two ways: as a mesh of beams, each spread
+over the polygon where it lands (:func:`sunset.light.caustics.trace_beams`,
+the default: sharp caustics without noise), and as photons, each a point
+spread by a kernel or counted in its texel (:func:`trace_photons`, kept as
+the independent check). Both follow the same rays and keep the same books;
+only the density estimate differs.
 
-The patch and the rays
-----------------------
+The patch
+---------
 Light reflected off the water travels on away from the sun, so only water on
 the sun's side of the post can light it. The patch is the rectangle that
 starts at the post's axis and runs L metres towards the sun (horizontally),
@@ -17,41 +22,32 @@ over the post's top, α = atan(k σ_s) with σ_s the sea's rms slope
 capped at :data:`~sunset.constants.RIPPLE_MAX_REACH`; W = ρ + L tan 2α covers
 the sideways spread. Light reflected from farther (off facets steeper than
 kσ_s, arriving lower than that elevation) is not traced: the patch is where
-nearly all of it comes from, not all. N sun rays (direction −P) fall on it at the points of a
-jittered √N × √N grid; each carries the flux E sin(e) A/N through the
-horizontal (E the direct sun's normal irradiance, A the patch's area), exact
-for a parallel beam whatever the local tilt of the water. Rays that land
-inside the post's own circle are blocked by it.
+nearly all of it comes from, not all. Its parameters (a, b) ∈ [0, 1]² are the
+distance towards the sun aL and across (2b − 1)W, area element J = 2WL.
 
-At each point the wave's normal N gives cos i = P·N, Fresnel's R(cos i)
-(:mod:`sunset.light.fresnel`), the reflected ray r = d − 2(d·N)N carrying R of
-the flux, and the refracted ray (Snell) carrying 1 − R, attenuated on its way
-down by the clear sea water, exp(−c(λ) s) with c = a + b
-(:mod:`sunset.light.water`). Both are pierced against the post's side
-(:meth:`~sunset.model.posts.Post.pierce`).
+The water's light and the post
+------------------------------
+At each point (x, y) of the patch the sunlight's flux, its shadows, Fresnel's
+split and the two rays are :func:`sunset.light.sunrays.sun_points`'s. Water
+inside the post's circle is under the post (the sun ray meets the post, not
+the water). Each ray is pierced against the post's side extended up and down
+(:func:`sunset.light.postrays.post_rays`): the landing point's texture coordinates are the azimuth φ of
+the side's normal and the height z; light landing above the post's top (or
+below its foot) is booked as passing it, by the texture's rows. The refracted
+light is attenuated on its way by the clear sea water, e^(−c(λ)s) with
+c = a + b (:mod:`sunset.light.water`), per wavelength of
+:func:`~sunset.model.sky.spectral_data`.
 
-Density estimation
-------------------
-A hit at (φ, z) on the side spreads its flux over the texels of the post's
-texture (azimuth φ of the side's normal × height z) with the Epanechnikov
-kernel K(d) ∝ 1 − (d/h)² of the arc distance d = √((ρΔφ)² + Δz²), h the
-bandwidth in metres; the kernel's weights are normalised over the texels it
-reaches (wrapping round in φ, cut at the ends in z), so every hit's flux lands
-in the texture whole. Irradiance is a texel's flux over its area ρΔφΔz,
-relative to E.
+Irradiance is a texel's flux over its area ρΔφΔz, relative to E: ``above``
+(n_z, n_φ) for the reflected light from z = −d to the top (d the sea's
+highest crest), ``below`` (n_zb, n_φ, n_λ) for the refracted light from the
+post's foot to z = d.
 
-Bookkeeping
------------
-Every ray's flux ends in exactly one account: blocked by the post, reflected
-onto the post (gathered), reflected past it (missed), reflected back down into
-the water (a low sun on a steep facet; not traced on), refracted onto the post
-(gathered, after the water took its share: absorbed), refracted past it
-(into the deep). :attr:`RippleTexture.accounts` holds them; they add up to the
-flux in.
-
-What is left out: the reflected ray meeting another wave before the post, and
-light reaching the post after two reflections or from the sky; the post's
-shadow on the water (it lies on the far side, away from the patch).
+Books: every ray's flux ends in exactly one account of
+:attr:`RippleTexture.accounts`, which add up to ``in``. What is left out:
+the reflected ray meeting another wave before the post, light reaching the
+post after two reflections or from the sky, and the sun's disk (a point sun:
+its 2 × 0.75° would blur a caustic thrown from D metres by about D/40 m).
 
 In the RGB back end
 -------------------
@@ -70,14 +66,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import RIPPLE_BANDWIDTH_TEXELS, RIPPLE_MAX_RAYS, RIPPLE_MAX_REACH, RIPPLE_SLOPE_SIGMAS
+from ..constants import RIPPLE_BANDWIDTH_TEXELS, RIPPLE_CELL, RIPPLE_MAX_RAYS, RIPPLE_MESH
 from ..errors import SunsetError, require_finite, require_int_range
 from ..kernels import twin
-from ..model.sky import spectral_data
-from .fresnel import reflectance, refract
-from .water import absorption, scattering
+from .caustics import MAX_REFINE, trace_beams, trace_photons
+from .postrays import PostReceiver, patch_geometry, rms_slope
 
-__all__ = ["RippleTexture", "trace_ripples", "patch_geometry", "rms_slope", "texture_lookup", "ripple_source"]
+__all__ = ["RippleTexture", "trace_ripples", "patch_geometry", "rms_slope", "texture_lookup", "ripple_source",
+           "histogram", "METHODS"]
+
+#: The two density estimates: a mesh of beams (the default) and photons.
+METHODS = ("beams", "photons")
 
 
 @dataclass(frozen=True)
@@ -88,7 +87,9 @@ class RippleTexture:
     ``below`` (n_zb, n_φ, n_λ): refracted light under water, attenuated by the water, per wavelength of
     :func:`~sunset.model.sky.spectral_data`. ``phi`` (n_φ,), ``z`` (n_z,) and ``z_below`` (n_zb,) are the
     texel centres; ``accounts`` the flux of every ray by where it ended (relative to E, m²; the refracted
-    ones per wavelength, averaged).
+    ones per wavelength, averaged). ``method`` says which estimate made it: ``"beams"`` (``cell`` the beams'
+    side on the water, m; ``rays`` the mesh's vertices) or ``"photons"`` (``rays`` of them, ``bandwidth`` the
+    kernel's radius in metres, 0 for a histogram).
     """
 
     phi: np.ndarray
@@ -99,32 +100,8 @@ class RippleTexture:
     accounts: dict
     rays: int
     bandwidth: float
-
-
-def rms_slope(sea) -> float:
-    """The sea's root-mean-square slope, √(Σ over trains and harmonics of (a_n n k)²/2)."""
-    total = 0.0
-    for train in sea.trains:
-        amps = train.harmonic_amplitudes()
-        total += float(np.sum((amps * np.arange(1, len(amps) + 1) * train.k) ** 2)) / 2.0
-    return math.sqrt(total)
-
-
-def patch_geometry(post, sea, sun_dir) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """(towards the sun, across, L, W): the patch's horizontal unit vectors and its length and half-width, metres."""
-    p = np.asarray(sun_dir, dtype=float)
-    horiz = math.hypot(p[0], p[1])
-    if p[2] <= 0.0 or horiz < 1e-9:
-        raise SunsetError("the sun must be above the horizon and not overhead to light a post from the water")
-    toward = np.array([p[0], p[1], 0.0]) / horiz
-    across = np.array([-toward[1], toward[0], 0.0])
-    e = math.asin(min(1.0, p[2]))
-    alpha = math.atan(RIPPLE_SLOPE_SIGMAS * rms_slope(sea))
-    low = max(e - 2.0 * alpha, e / 3.0)
-    reach = (post.top + sea.max_elevation) / math.tan(low)
-    L = min(post.radius + reach, RIPPLE_MAX_REACH)
-    W = post.radius + L * math.tan(min(2.0 * alpha, math.radians(60.0)))
-    return toward, across, L, W
+    method: str = "beams"
+    cell: float = 0.0
 
 
 @twin("sunset.light.ripples_numba")
@@ -161,9 +138,21 @@ def _splat(phi, z, weight, phi_edges, z_edges, radius: float, h: float) -> np.nd
     return np.asarray(m @ weight).reshape(n_z, n_phi, -1)
 
 
-def trace_ripples(scene, post_index: int = 0, t: float = 0.0, hours: float = 2.0, rays: int = 1 << 18,
-                  texels: int = 48, bandwidth: float | None = None, seed: int = 0) -> RippleTexture:
-    """Trace sun rays off a patch of water onto one post of ``scene`` at time ``t`` (the sun ``hours`` before sunset).
+def histogram(u, v, flux, shape) -> np.ndarray:
+    """Photons counted in the texel each lands in (u periodic, v clipped into the rows): (n_v, n_u, C)."""
+    n_v, n_u = shape
+    cell = np.clip(np.floor(v).astype(np.int64), 0, n_v - 1) * n_u + np.mod(np.floor(u).astype(np.int64), n_u)
+    out = np.zeros((n_v * n_u, flux.shape[1]))
+    for c in range(flux.shape[1]):
+        out[:, c] = np.bincount(cell, weights=flux[:, c], minlength=n_v * n_u)
+    return out.reshape(n_v, n_u, -1)
+
+
+def trace_ripples(scene, post_index: int = 0, t: float = 0.0, hours: float = 2.0, *, method: str = "beams",
+                  cell: float | None = None, rays: int = 1 << 18, texels: int = 48, bandwidth: float | None = None,
+                  seed: int = 0, shadows: bool = True, refine: int = 0) -> RippleTexture:
+    """Trace the sunlight off a patch of water onto one post of ``scene`` at time ``t`` (the sun ``hours`` before
+    sunset), as a mesh of beams or as photons.
 
     Parameters
     ----------
@@ -175,96 +164,84 @@ def trace_ripples(scene, post_index: int = 0, t: float = 0.0, hours: float = 2.0
         Time, seconds (the waves move).
     hours : float
         Hours before sunset: the sun's direction.
+    method : {"beams", "photons"}
+        The density estimate (module docstring).
+    cell : float, optional
+        Beams: the side of a cell of the mesh on the water, metres (at most
+        :data:`~sunset.constants.RIPPLE_MAX_RAYS` corners; by default
+        :data:`~sunset.constants.RIPPLE_CELL`, or larger where the patch would need more than
+        :data:`~sunset.constants.RIPPLE_MESH` corners: a low sun's long patch).
     rays : int
-        Sun rays on the patch (1 to :data:`~sunset.constants.RIPPLE_MAX_RAYS`).
+        Photons: how many (1 to :data:`~sunset.constants.RIPPLE_MAX_RAYS`).
     texels : int
         Texels up the post's height above the water; they are square, so there are about 2πρ/Δz around
         it, and under water as many per metre.
     bandwidth : float, optional
-        The kernel's radius h, metres (default :data:`~sunset.constants.RIPPLE_BANDWIDTH_TEXELS` texel heights).
+        Photons: the Epanechnikov kernel's radius h, metres (default
+        :data:`~sunset.constants.RIPPLE_BANDWIDTH_TEXELS` texel heights; 0: count each photon in its texel).
     seed : int
-        Seed of the jitter: the same seed gives the same texture.
+        Photons: the seed of their jittered grid (the same seed gives the same texture).
+    shadows : bool
+        Whether crests shadow the water behind them (:func:`sunset.light.sunrays.visible`).
+    refine : int
+        Beams: how many times a beam that lands at a glance may be halved (0 to
+        :data:`~sunset.light.caustics.MAX_REFINE`; :func:`sunset.light.caustics.trace_beams`).
     """
     require_int_range("post_index", post_index, 0, max(len(scene.posts) - 1, 0))
     if not scene.posts:
         raise SunsetError("the scene has no posts to light")
     require_finite("t", t)
     require_finite("hours", hours)
-    require_int_range("rays", rays, 1, RIPPLE_MAX_RAYS)
+    if method not in METHODS:
+        raise SunsetError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     require_int_range("texels", texels, 2, 4096)
-    n_z = int(texels)
-    post, sea = scene.posts[post_index], scene.sea
-    p = scene.sun.position(float(hours))
-    toward, across, L, W = patch_geometry(post, sea, p)
-    d = -p
-    z_lo = -sea.max_elevation
-    z_edges = np.linspace(z_lo, post.top, n_z + 1)
+    receiver = PostReceiver(scene, post_index, float(t), float(hours), int(texels), bool(shadows))
+    post = receiver.post
+    phi_edges, z_edges, zb_edges = receiver.phi_edges, receiver.z_edges, receiver.zb_edges
     dz = z_edges[1] - z_edges[0]
-    n_phi = max(8, int(round(2.0 * math.pi * post.radius / dz)))
-    n_zb = max(1, int(math.ceil(post.depth / dz))) if post.depth > 0 else 1
-    zb_edges = np.linspace(-max(post.depth, dz), 0.0, n_zb + 1)
-    phi_edges = np.linspace(0.0, 2.0 * math.pi, n_phi + 1)
-    h = RIPPLE_BANDWIDTH_TEXELS * dz if bandwidth is None else float(bandwidth)
-    require_finite("bandwidth", h)
-    if h <= 0:
-        raise SunsetError(f"bandwidth must be positive, got {h!r}")
-    lam = spectral_data().wavelengths
-    c_water = absorption(lam) + scattering(lam)                        # beam attenuation, m⁻¹
-    area = L * 2.0 * W
-    # per ray, relative to E
-    flux = math.sin(math.asin(min(1.0, p[2]))) * area / rays
-    # the jittered grid on the patch: along ∈ [0, L] towards the sun,
-    # lateral ∈ [−W, W]
-    m = int(math.ceil(math.sqrt(rays)))
-    rng = np.random.default_rng(seed)
-    k = np.arange(rays)
-    a = (k // m + rng.random(rays)) / m
-    b = (k % m + rng.random(rays)) / m
-    a = np.minimum(a, 1.0)
-    x = post.x + toward[0] * a * L + across[0] * (2.0 * b - 1.0) * W
-    y = post.y + toward[1] * a * L + across[1] * (2.0 * b - 1.0) * W
-    blocked = np.hypot(x - post.x, y - post.y) <= post.radius
-    x, y = x[~blocked], y[~blocked]
-    q = np.stack([x, y, sea.elevation(x, y, t)], axis=-1)
-    normal = sea.normal(x, y, t)
-    cos_i = np.clip(normal @ p, 0.0, 1.0)
-    R = reflectance(cos_i)
-    r = d[None, :] - 2.0 * (normal @ d)[:, None] * normal
-    # reflected rays; one that heads down (a low sun on a steep facet) meets the
-    # water again: not traced on
-    down = r[:, 2] <= 0.0
-    t_r = np.where(down, np.inf, post.pierce(q, r))
-    hit_r = np.isfinite(t_r)
-    pr = q[hit_r] + t_r[hit_r, None] * r[hit_r]
-    phi_r, z_r = post.surface_coordinates(pr)
-    above = _splat(phi_r, z_r, R[hit_r] * flux, phi_edges, z_edges, post.radius,
-                   h)[..., 0]
-    # refracted rays
-    tr = refract(np.broadcast_to(d, normal.shape), normal, cos_i)
-    t_t = post.pierce(q, tr)
-    pt = q + np.where(np.isfinite(t_t), t_t, 0.0)[:, None] * tr
-    hit_t = np.isfinite(t_t) & (pt[:, 2] <= 0.0)
-    att = np.exp(-np.outer(t_t[hit_t], c_water))                       # (hits, n_λ)
-    phi_t, z_t = post.surface_coordinates(pt[hit_t])
-    wt = ((1.0 - R[hit_t]) * flux)[:, None] * att
-    below = _splat(phi_t, z_t, wt, phi_edges, zb_edges, post.radius, h)
-    texel_area = post.radius * (phi_edges[1] - phi_edges[0]) * dz
-    texel_area_b = post.radius * (phi_edges[1] - phi_edges[0]) * (zb_edges[1] - zb_edges[0])
-    transmitted = (1.0 - R) * flux
-    accounts = {
-        "in": rays * flux,
-        "blocked": float(blocked.sum()) * flux,
-        "reflected onto the post": float(np.sum(R[hit_r]) * flux),
-        "reflected past it": float(np.sum(R[~hit_r & ~down]) * flux),
-        "reflected back into the water": float(np.sum(R[down]) * flux),
-        "refracted onto the post": float(np.mean(wt.sum(axis=0))),
-        "absorbed on the way": float(np.mean((transmitted[hit_t][:, None] * (1.0 - att)).sum(axis=0))),
-        "refracted past it": float(np.sum(transmitted[~hit_t])),
-    }
+    h = 0.0
+    if method == "beams":
+        if cell is None:               # the default: RIPPLE_CELL, coarser where the patch would need more corners
+            cell = max(RIPPLE_CELL, math.sqrt(receiver.area / RIPPLE_MESH))
+        require_finite("cell", cell)
+        n_a, n_b = _mesh(receiver.L, 2.0 * receiver.W, float(cell))
+        require_int_range("refine", refine, 0, MAX_REFINE)
+        books = trace_beams(receiver, n_a, n_b, levels=int(refine))
+        rays = (n_a + 1) * (n_b + 1)
+    else:
+        require_int_range("rays", rays, 1, RIPPLE_MAX_RAYS)
+        h = RIPPLE_BANDWIDTH_TEXELS * dz if bandwidth is None else float(bandwidth)
+        require_finite("bandwidth", h)
+        if h < 0:
+            raise SunsetError(f"bandwidth must be positive or 0 (a histogram), got {h!r}")
+        dzb = zb_edges[1] - zb_edges[0]
+
+        def splat(u, v, flux, shape):
+            if h == 0:
+                return histogram(u, v, flux, shape)
+            edges = z_edges if shape[0] == len(z_edges) - 1 else zb_edges
+            step = dz if shape[0] == len(z_edges) - 1 else dzb
+            return _splat(np.mod(u * (phi_edges[1] - phi_edges[0]), 2.0 * math.pi), edges[0] + v * step, flux,
+                          phi_edges, edges, post.radius, h)
+
+        books = trace_photons(receiver, int(rays), int(seed), splat)
+    dphi = phi_edges[1] - phi_edges[0]
     return RippleTexture(
         phi=0.5 * (phi_edges[1:] + phi_edges[:-1]), z=0.5 * (z_edges[1:] + z_edges[:-1]),
-        z_below=0.5 * (zb_edges[1:] + zb_edges[:-1]), above=above / texel_area, below=below / texel_area_b,
-        accounts=accounts, rays=int(rays), bandwidth=h)
+        z_below=0.5 * (zb_edges[1:] + zb_edges[:-1]), above=books.reflected / (post.radius * dphi * dz),
+        below=books.refracted / (post.radius * dphi * (zb_edges[1] - zb_edges[0])), accounts=books.accounts,
+        rays=int(rays), bandwidth=h, method=method, cell=float(cell) if method == "beams" else 0.0)
+
+
+def _mesh(length: float, width: float, cell: float) -> tuple[int, int]:
+    """Cells (n_a, n_b) of about ``cell`` metres on a length × width patch, within RIPPLE_MAX_RAYS vertices."""
+    if not cell > 0:
+        raise SunsetError(f"cell must be positive, got {cell!r}")
+    n_a, n_b = max(1, math.ceil(length / cell)), max(1, math.ceil(width / cell))
+    if (n_a + 1) * (n_b + 1) > RIPPLE_MAX_RAYS:
+        raise SunsetError(f"cell: {cell:g} m cells on a {length:.3g} x {width:.3g} m patch make "
+                          f"{(n_a + 1) * (n_b + 1):,} beams' corners (at most {RIPPLE_MAX_RAYS:,}): use larger cells")
+    return n_a, n_b
 
 
 def texture_lookup(tex: RippleTexture, post, points) -> np.ndarray:
@@ -295,10 +272,10 @@ def texture_lookup(tex: RippleTexture, post, points) -> np.ndarray:
     return out
 
 
-def ripple_source(scene, t: float, hours: float, light, rays: int = 1 << 17, texels: int = 48, seed: int = 0):
+def ripple_source(scene, t: float, hours: float, light, texels: int = 48, cell: float | None = None):
     """An extra light source for the RGB back end: the ripples of light on the scene's posts at time ``t``.
 
-    Traces one texture per post (:func:`trace_ripples`) and returns
+    Traces one texture per post (:func:`trace_ripples`, beams) and returns
     ``source(points, normals, part)`` for :attr:`sunset.light.lighting.Lighting.extra_irradiance`:
     at island points that lie on a post's side (direct rays; the points in
     eye coordinates), the texture's irradiance times the wood's albedo and the
@@ -306,7 +283,7 @@ def ripple_source(scene, t: float, hours: float, light, rays: int = 1 << 17, tex
     """
     from ..constants import PART_CLIFF
 
-    textures = [trace_ripples(scene, j, t, hours, rays, texels, seed=seed) for j in range(len(scene.posts))]
+    textures = [trace_ripples(scene, j, t, hours, texels=texels, cell=cell) for j in range(len(scene.posts))]
     lift = np.array([0.0, 0.0, scene.camera.eye_height])
     wood = np.asarray(light.island_direct[PART_CLIFF], dtype=np.float32)
 

@@ -1,23 +1,16 @@
-"""Numba twin of :func:`sunset.light.ripples._splat`: the Epanechnikov splat of the hits, one hit at a time.
+"""Numba twin of :func:`sunset.light.ripples._splat`: the Epanechnikov splat of the photons, one at a time.
 
 The NumPy reference builds (stencil, hits) arrays of texel indices, distances
-and kernel weights (49 × 258 000 entries for still water's band: about a
-gigabyte of temporaries) and adds the weighted hits up with a sparse matrix
-product. This twin walks the hits in order and, for each, the same stencil
-with the same operations in the same order, so that it gives the reference's
-bits:
-
-* the kernel weight 1 − (d/h)² of each stencil texel from the same
-  products and differences, cut at 0 and at the texture's ends in z;
-* their total added in stencil order (NumPy's ``sum(axis=0)`` adds rows);
-* each texel's flux added up from 0.0 hit after hit, in increasing hit order,
-  as the compressed-sparse-row product does (its rows' entries sorted by hit),
-  each term the product of the normalised weight and the hit's weight, terms
-  of weight 0 left out, as the sparse matrix leaves them out.
-
-Where the stencil is wider than the texture around (the same texel twice in
-one hit's stencil, which the sparse matrix adds before multiplying), the
-reference runs instead.
+and kernel weights and adds the weighted hits up with a sparse matrix
+product. This twin walks the hits in order and, for each, the same stencil:
+the kernel weight 1 − (d/h)² of each stencil texel, cut at 0 and at the
+texture's ends in z, normalised by their sum, a hit whose kernel reaches no
+texel put whole in the nearest one; each texel's flux added up hit after
+hit. It agrees with the reference within :data:`SPLAT_RTOL` of the largest
+texel (the same terms summed in another order; measured: 2e-16), and it is
+the same bytes on every run (one thread). Where the stencil is wider than the
+texture around (the same texel twice in one hit's stencil), the reference
+runs instead.
 """
 
 from __future__ import annotations
@@ -29,7 +22,10 @@ import numpy as np
 from ..kernels import jit as _jit
 from . import ripples
 
-__all__ = ["_splat"]
+__all__ = ["_splat", "SPLAT_RTOL"]
+
+#: How far the compiled splat may stray from the reference, relative to the largest texel.
+SPLAT_RTOL = 1e-13
 
 
 @_jit

@@ -80,7 +80,7 @@ def test_the_ripples_add_the_texture_times_the_direct_light_on_wood_only_on_the_
 def test_texture_lookup_reads_texel_centres_exactly_and_nothing_off_the_post():
     scene = load_named_scene("post-in-the-swell")
     post = scene.posts[0]
-    source = ripple_source(scene, 0.0, 1.0, Lighting.for_scene(scene, 1.0), rays=1 << 12, texels=8)
+    source = ripple_source(scene, 0.0, 1.0, Lighting.for_scene(scene, 1.0), texels=8, cell=0.2)
     tex = source.textures[0]
     i, j = 5, 3
     p = np.array([[post.x + post.radius * np.cos(tex.phi[i]), post.y + post.radius * np.sin(tex.phi[i]), tex.z[j]]])
