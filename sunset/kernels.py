@@ -2,11 +2,15 @@
 
 Every hot step of the vector stage and of the coding is written twice. The
 NumPy version is the reference: whole-array operations in the manner of the
-Cray's vector loops, what the book shows and what the stage module reads as
-the paper's algorithm. Its twin, in a ``*_numba`` module beside it, does the
-same arithmetic, operation for operation and in the same order, one element
-at a time with everything in registers; the tests check that both give
-identical bytes.
+Cray's vector loops, written for a reader, what the book shows and what the
+tests hold the renderer to. Its twin, in a ``*_numba`` module beside it, is
+the renderer: the same algorithm one element at a time with everything in
+registers, with the C library's float64 functions and its own float32 sine
+and cosine (:mod:`sunset.vector.sincos_numba`). The two are two arithmetic
+paths, not one: they agree within the tolerances that chapter 10 measures
+and the tests state (geometry to a few float32 roundings, the 8-bit codes on
+all but a few pixels in a hundred thousand), and each is byte-deterministic
+on its own.
 
 A stage marks its reference kernel with :func:`twin`; that is the only place
 where the choice is made::
@@ -54,7 +58,8 @@ try:  # pragma: no cover - exercised by whichever environment runs the tests
 except ImportError:  # pragma: no cover
     _numba = None
 
-__all__ = ["AVAILABLE", "enabled", "use_compiled", "compiled_trig", "jit", "twin", "threads", "use_threads", "strips",
+__all__ = ["AVAILABLE", "enabled", "use_compiled", "jit", "twin", "AGREE_DIRECTION", "AGREE_POINT", "AGREE_NORMAL", "AGREE_RAY",
+           "AGREE_FINAL_NORMAL", "AGREE_GEOMETRY_SHARE", "AGREE_CODES", "threads", "use_threads", "strips",
            "row_strips", "run_strips", "keep_freed_memory"]
 
 #: True when Numba is importable (the compiled kernels exist).
@@ -138,26 +143,12 @@ def jit(fn):
     return _numba.njit(cache=False, **options)(fn)
 
 
-def compiled_trig() -> bool:
-    """Whether compiled code computes NumPy's float32 sine and cosine bit for bit in this process.
-
-    :func:`sunset.trig_numba.matches_numpy`, checked once on a probe of
-    float32 values; False where Numba is missing.
-    """
-    if "trig" not in _state:
-        _state["trig"] = AVAILABLE and importlib.import_module("sunset.trig_numba").matches_numpy()
-    return _state["trig"]
-
-
-def twin(module: str, numpy_trig: bool = False):
+def twin(module: str):
     """Mark a NumPy reference kernel whose Numba twin is the function of the same name in ``module``.
 
     Returns a decorator. The decorated function dispatches on :func:`enabled`
     at every call; the reference stays reachable as ``.reference`` and the
-    twin as ``.compiled()`` (the tests compare the two). A twin that computes
-    float32 sines or cosines itself (``numpy_trig=True``, with
-    :mod:`sunset.trig_numba`) runs only where :func:`compiled_trig` holds;
-    elsewhere the reference runs, with the same bytes, more slowly.
+    twin as ``.compiled()`` (the tests compare the two).
     """
     def decorate(reference):
         name = reference.__name__
@@ -167,7 +158,7 @@ def twin(module: str, numpy_trig: bool = False):
 
         @functools.wraps(reference)
         def kernel(*args, **kwargs):
-            if _state["on"] and (not numpy_trig or compiled_trig()):
+            if _state["on"]:
                 return _compiled_or_fall_back(reference, compiled, args, kwargs)
             _say_why_numpy()
             return reference(*args, **kwargs)
@@ -176,6 +167,31 @@ def twin(module: str, numpy_trig: bool = False):
         kernel.compiled = compiled
         return kernel
     return decorate
+
+
+# --------------------------------------------------------------------------- how closely the two paths agree
+# Measured over every packaged scene at 1024² (chapter 10, :mod:`sunset.bench.agreement`) and held by the
+# tests. Geometry is compared where both paths' rays meet the same surfaces, relative for hit points and
+# distances, absolute for unit vectors and cosines: the directions on every pixel, the other fields on all
+# but a share 1 − AGREE_GEOMETRY_SHARE of the pixels (a ray that grazes a wave moves its hit by more than a
+# rounding, and on short waves far away a hit moved by a rounding sees another slope).
+
+# agreement-begin
+#: The direct rays' unit directions: the same IEEE operations on both paths, the same numbers (measured).
+AGREE_DIRECTION = 0.0
+#: Hit points and distances along the direct rays, relative.
+AGREE_POINT = 4e-7
+#: The unit normals of the direct hits.
+AGREE_NORMAL = 4e-6
+#: The reflected rays (after one or two bounces) and the sea's bounces' rays and cosines of incidence.
+AGREE_RAY = 2e-5
+#: The unit normals of the islands where the reflected rays end.
+AGREE_FINAL_NORMAL = 8e-4
+#: The least share of a frame's compared pixels within the tolerances of points, normals and rays.
+AGREE_GEOMETRY_SHARE = 0.9999
+#: The least share of a frame's pixels whose 8-bit code is the same on both paths.
+AGREE_CODES = 0.9999
+# agreement-end
 
 
 # --------------------------------------------------------------------------- strips on threads

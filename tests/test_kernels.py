@@ -1,10 +1,22 @@
-"""The compiled kernels (the `*_numba` twins chosen by sunset/kernels.py) against the NumPy vector kernels they replace.
+"""The compiled kernels (the `*_numba` twins chosen by sunset/kernels.py) against the NumPy reference kernels.
 
 The NumPy kernels are the reference (and are themselves tested against the
-paper's scalar loop and the brute-force caster elsewhere); here every
-compiled kernel must give the same numbers, bit for bit, and whole frames
-and their codes must come out identical on both paths.
+paper's scalar loop and the brute-force caster elsewhere). The compiled
+kernels compute with other arithmetic (their own float32 cosine, loops in
+another order), so they are held to the tolerances of sunset.kernels
+(AGREE_*), measured in chapter 10: every geometry field within its
+tolerance where both paths' rays meet the same surfaces, the codes
+identical on at least AGREE_CODES of the pixels with every differing one
+explained (tests/agree.py). Kernels without a transcendental function (the
+scan conversion, the island piercing, the interval cut) compute the same
+formula in the same IEEE operations and are compared for equality. Each
+path on its own is byte-deterministic, for any number of threads.
 """
+
+import json
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -22,8 +34,11 @@ from sunset.tape.codes import encode
 from sunset.constants import SEA, SKY
 from sunset.model.islands import Island, Paraboloid
 from sunset.vector.render import render
-from sunset.model.scene import Scene
+from sunset.model.scene import Scene, as_scene, scene_names
 from sunset.model.waves import Sea, WaveTrain
+
+from .agree import assert_codes_agree, assert_geometry_agrees
+from .vector.test_crests_numba import CREST_DISTANCE_RTOL, CREST_GRAZING_SHARE
 
 FIELDS = ("direction", "surface", "part", "distance", "point", "normal", "bounces", "ray", "final_surface",
           "final_part", "final_normal")
@@ -83,9 +98,14 @@ def test_scan_merge_is_the_depth_buffer(seed):
     np.testing.assert_array_equal(best_s, want_s)
 
 
+#: The sea's profile g = (elevation − h)·u on both paths, absolute, metres per metre: float32 roundings of
+#: the elevation (a few 1e-7 of the largest amplitude) times u <= 0.5 (the tests' samples).
+PROFILE_ATOL = 5e-7
+
+
 @pytest.mark.parametrize("order", [1, 2, 4])
 @pytest.mark.parametrize("t", [0.0, 1.3, 977.25])
-def test_sea_profile_is_the_numpy_one_bit_for_bit(order, t):
+def test_sea_profile_agrees_with_the_numpy_one(order, t):
     # Stokes orders 1 (no Horner loop), 2 (the default) and 4 (the longest), random scan lines
     rng = np.random.default_rng(order)
     sea = Sea([WaveTrain(0.5, 40.0, 260.0, 0.3, stokes_order=order), WaveTrain(0.12, 10.0, 235.0, 1.0),
@@ -95,7 +115,8 @@ def test_sea_profile_is_the_numpy_one_bit_for_bit(order, t):
     want = hf.sea_profile.reference(sea, s, u, 2.0, t)
     got = hf.sea_profile.compiled()(sea, s, u, 2.0, t)
     assert got.dtype == want.dtype == np.float32 and got.shape == want.shape == (7, 300)
-    np.testing.assert_array_equal(got.view(np.uint32), want.view(np.uint32))
+    err = np.abs(got.astype(float) - want)
+    assert 0 < err.max() <= PROFILE_ATOL          # two arithmetic paths: close, not the same bits
     assert hf.sea_profile.compiled()(sea, s, u[:0], 2.0, t).shape == (7, 0)
 
 
@@ -147,7 +168,7 @@ def test_island_piercing_is_the_numpy_one():
 
 
 @pytest.mark.parametrize("order", [1, 2, 4])
-def test_crest_hits_are_the_numpy_ones(order):
+def test_crest_hits_agree_with_the_numpy_ones(order):
     rng = np.random.default_rng(order)
     train = WaveTrain(0.5, 40.0, direction=rng.uniform(0, 360), phase=rng.uniform(0, 6), stokes_order=order)
     q, r = rays(rng, 5000)
@@ -156,7 +177,11 @@ def test_crest_hits_are_the_numpy_ones(order):
     t_in, _, meets = pierce.quadratic_interval(*crests.cylinder_coefficients(cyl, q, r))
     want = pierce.first_entry(t_in, meets)
     assert np.isfinite(want).sum() > 100
-    np.testing.assert_array_equal(reflect_numba.crest_hits(train, 1.3, q, r), want)
+    got = reflect_numba.crest_hits(train, 1.3, q, r)
+    hit = np.isfinite(want)
+    np.testing.assert_array_equal(np.isfinite(got), hit)
+    err = np.abs(got[hit] - want[hit]) / want[hit]
+    assert np.count_nonzero(err > CREST_DISTANCE_RTOL) <= CREST_GRAZING_SHARE * err.size
 
 
 def frames_equal(a, b):
@@ -175,30 +200,80 @@ def small_scenes():
     return {"default": default, "still": still, "bare": bare, "near": near}
 
 
+def both_paths(scene, t, mode, sea_bounces=True, seed=4):
+    """(frame, codes) on the NumPy path and on the compiled one."""
+    out = []
+    for compiled in (False, True):
+        with kernels.use_compiled(compiled):
+            frame = render(scene, t, mode, sea_bounces=sea_bounces)
+            out.append((frame, encode(scene, frame, seed=seed)))
+    return out
+
+
+def assert_paths_agree(scene, t, mode, sea_bounces=True, seed=4, context=""):
+    (ref, ref_codes), (got, got_codes) = both_paths(scene, t, mode, sea_bounces, seed)
+    assert_geometry_agrees(ref, got, context)
+    causes = assert_codes_agree(scene, ref, got, ref_codes, got_codes, seed, context)
+    return ref, got, causes
+
+
 @pytest.mark.parametrize("name", ["default", "still", "bare", "near"])
 @pytest.mark.parametrize("mode", [0, 1, 2])
-def test_frames_and_codes_are_the_same_on_both_paths(name, mode):
+def test_frames_and_codes_agree_on_both_paths(name, mode):
     scene = small_scenes()[name]
     for t in (0.0, 1.7):
-        with kernels.use_compiled(False):
-            ref = render(scene, t, mode)
-            ref_codes = encode(scene, ref, seed=4)
-        with kernels.use_compiled(True):
-            got = render(scene, t, mode)
-            got_codes = encode(scene, got, seed=4)
-        frames_equal(got, ref)
-        np.testing.assert_array_equal(got_codes, ref_codes)
+        ref, _, _ = assert_paths_agree(scene, t, mode, context=f"{name} t={t} mode {mode}")
         assert (ref.surface == SEA).any()
 
 
-def test_a_larger_frame_is_the_same_on_both_paths():
+@pytest.mark.parametrize("name", sorted(scene_names()))
+@pytest.mark.parametrize("mode", [0, 1, 2])
+@pytest.mark.parametrize("sea_bounces", [False, True])
+def test_every_packaged_scene_agrees_on_both_paths(name, mode, sea_bounces):
+    scene = as_scene(name).with_size(256, 192)
+    period = scene.sea.period or 8.0
+    for t in (0.0, 0.37 * period):
+        assert_paths_agree(scene, t, mode, sea_bounces, context=f"{name} t={t:.2f} mode {mode}")
+
+
+@pytest.mark.parametrize("name", ["carlas-island", "storm-swell"])
+def test_the_codes_agree_on_a_full_size_frame(name):
+    # the contract's size: 1024², the mode of Figure 6; the geometry within its tolerances there too
+    scene = as_scene(name).with_size(1024, 1024)
+    ref, got, causes = assert_paths_agree(scene, 1.1, 2, sea_bounces=False, context=name)
+    assert (ref.surface == SEA).mean() > 0.3
+
+
+def test_the_agreement_checks_can_fail():
+    # a frame one path got wrong: the hit points of a tenth of the sea moved along their rays by three times
+    # the tolerance, and codes changed on a share of pixels one too many
+    scene = small_scenes()["default"]
+    (ref, ref_codes), (got, got_codes) = both_paths(scene, 0.0, 2)
+    assert_geometry_agrees(ref, got)
+    bad = render(scene, 0.0, 2)
+    moved = np.zeros(bad.shape, bool)
+    moved[::10] = bad.surface[::10] == SEA                # the sea pixels of every tenth row
+    bad.point[moved] *= np.float32(1.0 + 3 * kernels.AGREE_POINT)
+    with pytest.raises(AssertionError, match="point"):
+        assert_geometry_agrees(ref, bad)
+    wrong = ref_codes.copy()
+    n = int(np.ceil((1 - kernels.AGREE_CODES) * wrong.size)) + 1
+    flat = wrong.reshape(-1)
+    flat[:n] = flat[:n] ^ 1
+    with pytest.raises(AssertionError, match="identical"):
+        assert_codes_agree(scene, ref, ref, ref_codes, wrong, 4)
+    scene = Scene.default().with_size(128, 96)        # more than 10⁴ pixels: one code may differ
+    (ref, ref_codes), _ = both_paths(scene, 0.0, 2)
+    one = ref_codes.copy()
+    one[0, 0] ^= 1                                    # same frames, another code: no known cause
+    with pytest.raises(AssertionError, match="no known cause"):
+        assert_codes_agree(scene, ref, ref, ref_codes, one, 4)
+
+
+def test_a_larger_frame_agrees_on_both_paths():
     # more scan lines than one chunk, and islands of many samples per scan line
     scene = Scene.default().with_size(300, 260)
-    with kernels.use_compiled(False):
-        ref = render(scene, 0.4, 2)
-    with kernels.use_compiled(True):
-        got = render(scene, 0.4, 2)
-    frames_equal(got, ref)
+    assert_paths_agree(scene, 0.4, 2, context="300x260")
 
 
 def test_write_back_into_a_non_contiguous_frame():
@@ -208,7 +283,6 @@ def test_write_back_into_a_non_contiguous_frame():
         frame.finish_direct()
         frame.ray = np.asfortranarray(frame.ray)  # reshape(-1) of this would copy
         reflect.trace_reflections(scene, frame, 1)
-    with kernels.use_compiled(False):
         ref = render(scene, 0.0, 1)
     frames_equal(frame, ref)
 
@@ -284,15 +358,48 @@ def test_frames_codes_and_exposures_do_not_depend_on_the_threads(compiled):
             np.testing.assert_array_equal(rgb, results[0][2])
 
 
-def test_the_dither_of_a_strip_is_its_piece_of_the_frames_stream():
-    from sunset.tape.codes import dither
+#: NumPy's SIMD code for this processor switched off (AVX-512 and, in its X86_V3 target, AVX2 and FMA), as on an
+#: older x86 processor: a frame must still be rendered by the compiled kernels. (This NumPy has no target named
+#: AVX2 of its own: X86_V3 is the one that holds it.)
+NO_NUMPY_SIMD = "AVX512_ICL AVX512_SPR X86_V4 X86_V3"
 
-    H, W = 23, 31
-    rng = np.random.default_rng(77)
-    u, v = rng.random((H, W)), rng.random((H, W))
-    np.testing.assert_array_equal(dither(77, 5 * W, (4, W)), u[5:9])
-    np.testing.assert_array_equal(dither(77, (H + 11) * W, (12, W)), v[11:23])
-    np.testing.assert_array_equal(dither(77, 0, (H, W)), u)
+_PATH_PROBE = """
+import json, time
+from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+from sunset import kernels
+from sunset.model.scene import Scene
+from sunset.tape.codes import encode
+from sunset.vector.render import render
+from sunset.vector import heightfield_numba, slopes_numba, island_samples_numba, reflect_numba, direct_numba
+from sunset.tape import codes_numba
+scene = Scene.default().with_size(256, 192)
+encode(scene, render(scene, 0.5, 2, sea_bounces=False), seed=0)
+kernels_run = {name: len(fn.signatures) for name, fn in [
+    ("sea columns", heightfield_numba._sea_columns), ("island strip", island_samples_numba._islands_strip),
+    ("geometry", direct_numba._assemble), ("island normals", direct_numba._island_normals),
+    ("sea normals", slopes_numba._normals), ("reflections", reflect_numba.trace_strip),
+    ("codes", codes_numba._encode_pixels)]}
+print(json.dumps({"numpy_simd": [n for n in __cpu_dispatch__ if __cpu_features__.get(n)],
+                  "enabled": kernels.enabled(), "kernels": kernels_run}))
+"""
+
+
+@pytest.mark.parametrize("disabled", ["", NO_NUMPY_SIMD])
+def test_the_compiled_path_runs_whatever_simd_numpy_picked(disabled):
+    # each compiled kernel of a frame ran (Numba compiled or loaded it for a call) in a fresh process
+    env = dict(os.environ, NPY_DISABLE_CPU_FEATURES=disabled)
+    env.pop("SUNSET_COMPILED", None)
+    out = subprocess.run([sys.executable, "-c", _PATH_PROBE], env=env, capture_output=True, text=True, check=True)
+    report = json.loads(out.stdout.strip().splitlines()[-1])
+    assert report["enabled"] is True
+    assert all(n >= 1 for n in report["kernels"].values()), report["kernels"]
+    if disabled:
+        assert not any(t in report["numpy_simd"] for t in disabled.split()), report["numpy_simd"]
+    # and with the compiled kernels off, none of them runs: the probe can tell
+    env["SUNSET_COMPILED"] = "0"
+    off = json.loads(subprocess.run([sys.executable, "-c", _PATH_PROBE], env=env, capture_output=True, text=True,
+                                    check=True).stdout.strip().splitlines()[-1])
+    assert off["enabled"] is False and not any(off["kernels"].values())
 
 
 @pytest.mark.parametrize("compiled", [False, True])

@@ -18,7 +18,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sunset"
 #: vector stage, never the 8-bit path, and the 8-bit path never uses it.
 RANK = {"model": 0, "vector": 1, "tape": 2, "recorder": 3, "light": 2}
 #: Modules at the top of the package that any stage may import (they import no stage).
-UTILITIES = {"errors", "constants", "io", "kernels", "provenance", "trig_numba", "guard", "escape", "__version__"}
+UTILITIES = {"errors", "constants", "io", "kernels", "provenance", "guard", "escape", "__version__"}
 #: What sits on top of the pipeline and may import anything.
 TOP = {"figures", "cli", "bench", "gallery", "pictures", "explorer", "__init__", "__main__"}
 MAX_LINES = 500

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..kernels import compiled_trig
+from ..kernels import AVAILABLE
 
 
 def timed(fn, repeats: int) -> list[float]:
@@ -157,8 +157,8 @@ def measure_limits(width: int, height: int, repeats: int = 5) -> dict:
       bandwidth (``np.copyto`` of 256 MiB, reading and writing) that takes
       bytes / bandwidth;
     * arithmetic: the sea's profile is one single-precision cosine per sample
-      and wave train; at the faster of NumPy's float32 cosine and its compiled
-      copy (:mod:`sunset.trig_numba`, the same bits) on every core that takes
+      and wave train; at the faster of NumPy's float32 cosine and the compiled
+      cosine (:mod:`sunset.vector.sincos_numba`) on every core that takes
       samples × trains / rate.
 
     Both are per core count and optimistic (nothing else is counted), so the
@@ -187,8 +187,8 @@ def measure_limits(width: int, height: int, repeats: int = 5) -> dict:
         cosines.append(time.perf_counter() - start)
     cos_rate = x.size / float(np.median(cosines))                   # per second, one core
     compiled_rate = 0.0
-    if compiled_trig():                                              # NumPy's cosine, compiled (same bits)
-        from ..trig_numba import cos_into
+    if AVAILABLE:                                                    # the compiled kernels' own cosine
+        from ..vector.sincos_numba import cos_into
 
         cos_into(x, out)
         compiled = []

@@ -234,8 +234,8 @@ class Island:
         return self._cliff_gradient(x, y, self._phases(x, y))
 
     def _phases(self, x, y) -> list:
-        """ℓ_jk x + m_jk y + φ_jk of each cosine term (φ = 0 adds nothing, bit for bit)."""
-        return [c.l * x + c.m * y + c.phase if c.phase else c.l * x + c.m * y for c in self.cosines]
+        """ℓ_jk x + m_jk y + φ_jk of each cosine term."""
+        return [c.l * x + c.m * y + c.phase for c in self.cosines]
 
     def _cliff_value(self, x, y, phases):
         q = self.cliff.value(x - self.x, y - self.y)

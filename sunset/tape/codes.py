@@ -52,6 +52,14 @@ see the sun; rays with sin δ <= |W·R| < sin 3δ get the *halo* codes. A scaled
 random number is added to |W·R| and to the index before they are thresholded,
 and the random generator is reset with the same seed for every frame, so the
 texture does not jitter from frame to frame.
+
+The random numbers (:func:`dither`) are a counter-based generator: pixel n's
+two numbers are SplitMix64's outputs 2n and 2n + 1 from the seed, each a hash
+of the seed and its counter alone. Any strip of rows computes its own
+numbers, and the compiled coder computes them inside its loop, in the same
+64-bit integer arithmetic (it wraps modulo 2⁶⁴ in NumPy and in Numba alike):
+the two paths use the same numbers, exactly, and no one has to draw a stream
+of a frame's length first.
 """
 
 from __future__ import annotations
@@ -349,7 +357,7 @@ def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
     frame : Frame
         A frame whose reflections have been traced.
     seed : int
-        Seed of the dither; the generator is reset to it for every frame, so a
+        Seed of the dither (:func:`dither`), the same for every frame, so a
         still scene codes the same way in every frame.
 
     Returns
@@ -374,7 +382,7 @@ def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
     def rows(r0: int, r1: int) -> None:
         part = frame.rows(r0, r1)
         out = codes[r0:r1]
-        u = encode_rows(out, part, seed, r0, H, sun, cmap)
+        u = encode_rows(out, part, seed, r0, sun, cmap)
         if u is None:                        # no posts or clouds in these rows
             return
         post = np.asarray(part.final_surface) == POST
@@ -400,38 +408,47 @@ def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
 CODE_STRIP_PIXELS = 1 << 18
 
 
-def dither(seed: int, skip: int, shape) -> np.ndarray:
-    """The dither numbers ``skip`` … ``skip + prod(shape) − 1`` of the stream ``np.random.default_rng(seed)``.
+#: SplitMix64's constants (Steele, Lea and Flood 2014; Vigna's ``splitmix64.c``): the counter's step γ and the
+#: two multipliers of the output's mixing.
+SPLITMIX_GAMMA, SPLITMIX_M1, SPLITMIX_M2 = 0x9E3779B97F4A7C15, 0xBF58476D1CE4E5B9, 0x94D049BB133111EB
 
-    ``np.random.default_rng(seed).random(n)`` is the stream's first n
-    numbers, one 64-bit step each, so a strip of rows can start its own
-    generator where its numbers begin (PCG64's jump ahead) and the frame's
-    dither is the same whichever strips it is cut into: the first H·W
-    numbers are the frame's u, the next H·W its v, row by row.
+
+def dither(seed: int, start: int, shape, which: int) -> np.ndarray:
+    """The dither numbers in [0, 1) of the pixels ``start`` … ``start + prod(shape) − 1`` (row-major in the frame).
+
+    ``which`` = 0 gives u (added before every truncation), 1 gives v (added
+    to |W·R|). Pixel n's u and v are the outputs 2n and 2n + 1 of SplitMix64
+    seeded with ``seed``: with the counter c = seed + (2n + 1 + which)·γ
+    (mod 2⁶⁴), z = c ⊕ (c ≫ 30), z = z·M₁, z = z ⊕ (z ≫ 27), z = z·M₂,
+    z = z ⊕ (z ≫ 31), and the number is z's top 53 bits over 2⁵³. Each is
+    a function of the seed and the pixel's index alone, so a strip of rows
+    computes its own, and the compiled coder the same numbers in its loop.
     """
-    bits = np.random.PCG64(seed)
-    bits.advance(int(skip))
-    return np.random.Generator(bits).random(tuple(shape))
+    count = math.prod(shape)
+    n = np.arange(start, start + count, dtype=np.uint64)
+    z = np.uint64(seed) + (np.uint64(2) * n + np.uint64(1 + which)) * np.uint64(SPLITMIX_GAMMA)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(SPLITMIX_M1)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(SPLITMIX_M2)
+    z ^= z >> np.uint64(31)
+    return ((z >> np.uint64(11)).astype(np.float64) * 2.0**-53).reshape(tuple(shape))
 
 
 @twin("sunset.tape.codes_numba")
-def encode_rows(codes, frame: Frame, seed: int, r0: int, H: int, sun: Sun, cmap: CodeMap):
-    """Code the rows ``r0 …`` of a frame of H rows (``frame`` and ``codes`` hold just those rows), in place.
+def encode_rows(codes, frame: Frame, seed: int, r0: int, sun: Sun, cmap: CodeMap):
+    """Code the rows ``r0 …`` of a frame (``frame`` and ``codes`` hold just those rows), in place.
 
-    The dither: u (added before every truncation) and v (added to |W·R|
-    before thresholding) are the rows' pieces of :func:`dither`'s streams.
-    Returns u where the caller has more to code (posts, clouds); the
-    compiled twin draws u and v inside its loop and returns None when the
-    rows have neither.
+    The dither u and v are the rows' numbers of :func:`dither`. Returns u
+    where the caller has more to code (posts, clouds); the compiled twin
+    computes u and v inside its loop and returns None when the rows have
+    neither.
     """
     shape = codes.shape
-    u = dither(seed, r0 * shape[1], shape)
-    v = dither(seed, (H + r0) * shape[1], shape)
+    u = dither(seed, r0 * shape[1], shape, 0)
+    v = dither(seed, r0 * shape[1], shape, 1)
     encode_pixels(codes, frame, u, v, sun, cmap)
     return u
 
 
-@twin("sunset.tape.codes_numba")
 def encode_pixels(codes, frame: Frame, u, v, sun: Sun, cmap: CodeMap) -> None:
     """The coding rules, every pixel at once: fills ``codes`` (H, W) uint8 in place.
 

@@ -14,8 +14,8 @@ and codes only its sea pixels: the sea's depth buffer
 (:func:`sunset.vector.direct.sea_depth`), then strip by strip of rows the sea
 pixels' points and normals (:func:`sunset.vector.direct.sea_strip`), their
 reflected rays (:func:`sunset.vector.reflect.trace_sea_rays`) and their codes
-(:func:`encode_sea_rows`); the codes are byte-identical to
-:func:`sunset.vector.render.render` and :func:`sunset.tape.codes.encode` (tests).
+(:func:`encode_sea_rows`); on one path the codes are byte-identical to
+those of :func:`sunset.vector.render.render` and :func:`sunset.tape.codes.encode` (tests).
 
 Scenes with clouds or posts in the water are coded the whole way
 (:func:`sunset.tape.cycle.code_frame`): their sky and posts are not still in
@@ -54,17 +54,15 @@ class CyclePass:
         Every pixel's direct ray D (the frames' ``direction``).
     codes : ndarray (H, W) uint8
         Each pixel's code when the sea does not take it: its direct ray's, on an island or in the sky.
-    u, v : ndarray (H, W) float64
-        The frames' dither (:func:`sunset.tape.codes.dither`'s streams of the seed): the same every frame,
-        drawn once here, where each frame would draw both streams' 2·H·W numbers to code its sea.
+    seed : int
+        The dither's seed (:func:`sunset.tape.codes.dither`).
     """
 
     key: tuple
     islands: IslandPass
     direction: np.ndarray
     codes: np.ndarray
-    u: np.ndarray
-    v: np.ndarray
+    seed: int
 
 
 def still_key(scene, seed: int) -> tuple:
@@ -82,11 +80,10 @@ def cycle_pass(scene, seed: int = 0, islands: IslandPass | None = None) -> Cycle
         islands = island_pass(scene)
     frame = islands_alone(scene, islands).finish_direct(False)
     codes = encode(scene, frame, seed=seed)
-    H, W = frame.shape
-    u, v = dither(seed, 0, (H, W)), dither(seed, H * W, (H, W))
-    for a in (frame.direction, codes, u, v):
+    for a in (frame.direction, codes):
         a.flags.writeable = False
-    return CyclePass(key=still_key(scene, seed), islands=islands, direction=frame.direction, codes=codes, u=u, v=v)
+    return CyclePass(key=still_key(scene, seed), islands=islands, direction=frame.direction, codes=codes,
+                     seed=int(seed))
 
 
 def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> np.ndarray:
@@ -125,8 +122,7 @@ def code_sea(scene, t: float, reflections: int, seed: int, still: CyclePass) -> 
         part.final_normal = np.empty(shape + (3,), np.float32)
         if np.any(part.surface == SEA):
             trace_sea_rays(scene, part, reflections)
-        encode_sea_rows(codes[r0:r1], part, still.codes[r0:r1], still.u[r0:r1],
-                        still.v[r0:r1], sun, cmap)
+        encode_sea_rows(codes[r0:r1], part, still.codes[r0:r1], seed, r0, sun, cmap)
 
     run_strips(rows, strips(H, max(1, SEA_STRIP_PIXELS // W)))
     return codes
@@ -137,12 +133,12 @@ SEA_STRIP_PIXELS = 1 << 15
 
 
 @twin("sunset.tape.codes_numba")
-def encode_sea_rows(codes, frame: Frame, still, u, v, sun: Sun, cmap: CodeMap) -> None:
-    """Code some rows of a cycle's frame (``frame``, ``still``, ``u``, ``v`` and ``codes`` hold those rows).
+def encode_sea_rows(codes, frame: Frame, still, seed: int, r0: int, sun: Sun, cmap: CodeMap) -> None:
+    """Code the rows ``r0 …`` of a cycle's frame (``frame``, ``still`` and ``codes`` hold those rows).
 
     Off the sea (``frame.surface``), the still codes; on it,
     :func:`sunset.tape.codes.encode_pixels` of the final fields with the
-    rows' pieces of the dither u and v (:class:`CyclePass`).
+    rows' dither numbers of ``seed`` (:func:`sunset.tape.codes.dither`).
     """
     codes[...] = still
     sea = np.asarray(frame.surface) == SEA
@@ -152,5 +148,7 @@ def encode_sea_rows(codes, frame: Frame, still, u, v, sun: Sun, cmap: CodeMap) -
     # the final fields are read on the sea pixels alone: the others are marked as no surface to code
     only = replace(frame, final_surface=np.where(sea, frame.final_surface, SEA).astype(np.int8))
     out = np.zeros(shape, np.uint8)
+    u = dither(seed, r0 * shape[1], shape, 0)
+    v = dither(seed, r0 * shape[1], shape, 1)
     encode_pixels(out, only, u, v, sun, cmap)
     codes[sea] = out[sea]

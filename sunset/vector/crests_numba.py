@@ -8,14 +8,12 @@ For :func:`sunset.vector.reflect_numba.trace_sea_rays`, the twin of
   :func:`crest_entry` the distance along a candidate to its crest cylinder
   (:func:`~sunset.vector.crests.crest_cylinder`, :func:`~sunset.vector.crests.cylinder_coefficients`,
   :func:`sunset.vector.pierce.first_entry`), the cosine of the reduced phase taken in
-  the loop (float64 ``math.cos``, which is the C library's ``cos`` that NumPy's
-  float64 ``np.cos`` calls); :func:`crest_distance` is the two together;
+  the loop (float64 ``math.cos``, the C library's); :func:`crest_distance` is the two together;
 * :func:`sea_normal` is :meth:`sunset.model.waves.Sea.normal` at one point
   (float64 sine and cosine, the harmonics by the angle-sum recurrence).
 
 :func:`sunset.vector.reflect_numba.trace_strip` calls them on the sea pixels' rays.
-The same operations in the same order as the NumPy reference: the frames
-are identical (tests).
+They agree with the NumPy reference within the tolerances of chapter 10 (tests).
 """
 
 from __future__ import annotations
@@ -26,7 +24,6 @@ import math
 import numpy as np
 
 from ..kernels import jit as _jit
-from ..trig_numba import fma64
 from .crests import CREST_GRACE, crest_curvature, largest_train
 
 
@@ -58,16 +55,13 @@ def _quadratic(a, b, c):
 
 @_jit
 def mod_two_pi(x):
-    """x mod 2π as ``np.mod`` (and Python's ``%``) gives it, mostly without fmod.
+    """x mod 2π in [0, 2π), as ``np.mod`` gives it to a rounding: x − ⌊x/2π⌋·2π.
 
-    With n = ⌊x/2π⌋, the remainder x − n·2π is a real number that
-    ``np.mod`` rounds once (fmod's exact remainder, plus 2π where x < 0);
-    one fused multiply-add rounds it once too. Where x/2π rounded across an
-    integer (the result falls outside [0, 2π)), and for infinities and NaN,
-    the C library's fmod decides, as ``np.mod`` does.
+    Where that falls outside [0, 2π) (x/2π rounded across an integer), and
+    for infinities and NaN, Python's ``%`` decides (the C library's fmod).
     """
     two_pi = 2.0 * math.pi
-    r = fma64(-math.floor(x / two_pi), two_pi, x)
+    r = x - math.floor(x * (1.0 / two_pi)) * two_pi
     if r >= 0.0 and r < two_pi:
         return r
     return x % two_pi
@@ -123,11 +117,10 @@ def crest_block(n, qx, qy, qz, rx, ry, rz, crest, amps, psi, keep, scratch):
     """ψ and the crest's bounding test for the first ``n`` rays of a block, in loops over the block.
 
     What :func:`crest_phase` does ray by ray, with the same operations, as
-    whole-block loops without branches that the compiler vectorises: ψ by
-    one fused multiply-add (the quotient by 1/2π; where it rounded across an
-    integer the result falls outside [0, 2π), and those rays, with
-    infinities and NaN, take the C library's fmod in a second loop, as
-    :func:`mod_two_pi` does); then each harmonic's bound, then the test.
+    whole-block loops without branches that the compiler vectorises: ψ as
+    :func:`mod_two_pi` (the rays whose ψ falls outside [0, 2π), with
+    infinities and NaN, take Python's ``%`` in a second loop); then each
+    harmonic's bound, then the test.
     ``scratch`` is (5, block) float64.
     """
     l, m, omega_t, phase, k, amp_sum, kappa = crest
@@ -138,7 +131,7 @@ def crest_block(n, qx, qy, qz, rx, ry, rz, crest, amps, psi, keep, scratch):
     for j in range(n):
         x = l * qx[j] + m * qy[j] - omega_t + phase
         theta[j] = x
-        psi[j] = fma64(-math.floor(x * inv_two_pi), two_pi, x)
+        psi[j] = x - math.floor(x * inv_two_pi) * two_pi
     for j in range(n):
         p = psi[j]
         if not (p >= 0.0 and p < two_pi):

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..constants import ISLAND_SAMPLE_BUDGET, PART_NONE, SCANLINE_CHUNK_ELEMENTS, SEA, SKY
 from ..errors import SunsetError, require_finite
-from ..kernels import compiled_trig, enabled, row_strips, run_strips, strips, twin
+from ..kernels import enabled, row_strips, run_strips, strips, twin
 from ..model.waves import unit_normal
 from .frame import Frame
 from .budget import check_work
@@ -194,7 +194,7 @@ def _depth_buffer(scene, t: float, refine_islands: bool, islands: IslandPass | N
     tail = 0
     if samp.n:
         # compiled, one scan line's profile at a time: no bound on the strips
-        most = None if enabled() and compiled_trig() else _chunk_columns(samp, W)
+        most = None if enabled() else _chunk_columns(samp, W)
         tail = sum(run_strips(sea, strips(W, most)))
     seconds["sea"] += clock() - tick
     counts = {"sea_samples": samp.n, "island_samples": islands.samples, "probe": islands.probe, "tail_pixels": tail}
@@ -255,7 +255,7 @@ def _row_heights(cam) -> np.ndarray:
     return zeta0 + dz * np.arange(cam.height, dtype=np.float64)
 
 
-@twin("sunset.vector.direct_numba", numpy_trig=True)
+@twin("sunset.vector.direct_numba")
 def sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, normal) -> None:
     """The direct fields of the sea pixels alone, from the depth buffer: :func:`assemble_geometry` and
     :func:`put_sea_normals`, skipping everything else.
@@ -344,7 +344,7 @@ def put_unit_normals(normal, idx, fx, fy) -> None:
     normal.reshape(-1, 3)[idx] = unit_normal(fx, fy)
 
 
-@twin("sunset.vector.direct_numba", numpy_trig=True)
+@twin("sunset.vector.direct_numba")
 def put_island_normals(island, normal, part, idx, s, y) -> None:
     """An island's pixels: the part and the unit normal of its surface at (s·y, y) into ``idx``, in place.
 
@@ -356,7 +356,7 @@ def put_island_normals(island, normal, part, idx, s, y) -> None:
     normal.reshape(-1, 3)[idx] = unit_normal(gx.astype(_F32), gy.astype(_F32))
 
 
-@twin("sunset.vector.slopes_numba", numpy_trig=True)
+@twin("sunset.vector.slopes_numba")
 def put_sea_normals(sea, t: float, normal, idx, s, y) -> None:
     """The sea pixels' unit normals: the slopes on the scan lines, then (−f_x, −f_y, 1)/|·| into ``idx``, in place.
 

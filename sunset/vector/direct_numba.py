@@ -3,8 +3,8 @@
 :func:`assemble_geometry` builds directions, points, distances and the
 compressed lists of sea and island pixels in one pass over the depth buffer;
 :func:`put_unit_normals` writes the sea's unit normals, :func:`put_island_normals`
-an island's parts and normals. The arithmetic of the
-NumPy reference, element by element. Chosen by :mod:`sunset.kernels`.
+an island's parts and normals, element by element, with our own float32
+sine and cosine (:mod:`sunset.vector.sincos_numba`). Chosen by :mod:`sunset.kernels`.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numpy as np
 
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..kernels import jit as _jit
-from ..trig_numba import cos32, sin32
+from .sincos_numba import cos32, sin32
 from .slopes_numba import BLOCK, _normals_block, _scratch, slope_terms
 
 
@@ -124,16 +124,16 @@ def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int, out):
 
 
 def _island_constants(island):
-    """The island's constants for :func:`_island_normals`, float32 as NumPy's float32 arithmetic casts them.
+    """The island's constants for :func:`_island_normals`, float32.
 
     (X, Y, cliff height, 2e, e, f, g, 2g, cliff top, hill factor, beach
-    height, e, f, g, 2e, 2g) and one row (ℓ, m, φ, a, φ ≠ 0) per cosine term.
+    height, e, f, g, 2e, 2g) and one row (ℓ, m, φ, a) per cosine term.
     """
     cl, bc = island.cliff, island.beach
     c = np.array([island.x, island.y, cl.height, 2.0 * cl.e, cl.e, cl.f, cl.g, 2.0 * cl.g, island.cliff_top,
                   island.hill_factor, bc.height, bc.e, bc.f, bc.g, 2.0 * bc.e, 2.0 * bc.g], np.float32)
-    terms = np.array([[t.l, t.m, t.phase, t.amplitude, 1.0 if t.phase else 0.0] for t in island.cosines],
-                     np.float32).reshape(len(island.cosines), 5)
+    terms = np.array([[t.l, t.m, t.phase, t.amplitude] for t in island.cosines],
+                     np.float32).reshape(len(island.cosines), 4)
     return c, terms
 
 
@@ -149,9 +149,7 @@ def _island_normals(c, terms, normal, part, idx, s, y, part_beach, part_cliff, p
         qx = -(c[3] * dx + c[5] * dy)
         qy = -(c[5] * dx + c[7] * dy)
         for k in range(terms.shape[0]):
-            ph = terms[k, 0] * x + terms[k, 1] * yy
-            if terms[k, 4] != 0:
-                ph = ph + terms[k, 2]
+            ph = terms[k, 0] * x + terms[k, 1] * yy + terms[k, 2]
             q = q + terms[k, 3] * cos32(ph)
             sn = terms[k, 3] * sin32(ph)
             qx = qx - terms[k, 0] * sn
@@ -181,7 +179,7 @@ def put_island_normals(island, normal, part, idx, s, y) -> None:
     """:func:`sunset.vector.direct.put_island_normals` compiled: the island's surface at each pixel, in one loop.
 
     The float32 operations of :meth:`sunset.model.islands.Island.surface`
-    (NumPy's float32 cosine and sine: :mod:`sunset.trig_numba`) and of
+    (with the cosines and sines of :mod:`sunset.vector.sincos_numba`) and of
     :func:`sunset.model.waves.unit_normal`, pixel by pixel.
     """
     c, terms = _island_constants(island)
@@ -235,7 +233,7 @@ def sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, 
 
     The points as :func:`assemble`, the normals as
     :func:`sunset.vector.slopes_numba.put_sea_normals` (the slopes over
-    blocks of the tile's sea pixels, gathered as they are met), the same bits.
+    blocks of the tile's sea pixels, gathered as they are met).
     """
     _sea_geometry(best_u, best_surf, np.ascontiguousarray(s_all, np.float64), np.ascontiguousarray(zeta, np.float64),
                   SEA, surface, point, normal.reshape(-1, 3), *slope_terms(sea, t), BLOCK, TILE_ROWS, TILE_COLUMNS)

@@ -42,13 +42,13 @@ each surface gives a yp for every pixel, and the nearest (largest u) wins: the
 per-scan-line depth buffer, assembled into the frame by
 :mod:`sunset.vector.direct`.
 
-Speed. The functions here are the NumPy reference. :func:`sea_scan` has a
-Numba twin (:mod:`sunset.vector.heightfield_numba`, chosen by
-:mod:`sunset.kernels`) that runs the scan conversion, the far tail and the
-depth buffer as one compiled loop per scan line with the same arithmetic:
-the frames are identical. :func:`sea_columns` (the profile, then the scan)
-has a twin that computes each scan line's profile, NumPy's float32 cosine
-included, and scan-converts it at once.
+Speed. The functions here are the NumPy reference, written to be read.
+:func:`sea_scan` has a Numba twin (:mod:`sunset.vector.heightfield_numba`,
+chosen by :mod:`sunset.kernels`) that runs the scan conversion, the far tail
+and the depth buffer as one compiled loop per scan line, and
+:func:`sea_columns` (the profile, then the scan) one that computes each scan
+line's profile, cosines included, and scan-converts it at once. The two
+paths agree within the tolerances of chapter 10.
 """
 
 from __future__ import annotations
@@ -273,7 +273,7 @@ def _profile_arrays(s, u):
     return s, u, (1.0 / u).astype(_F32), np.zeros((s.size, u.size), dtype=_F32)
 
 
-@twin("sunset.vector.heightfield_numba", numpy_trig=True)
+@twin("sunset.vector.heightfield_numba")
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
     """g(y_i) = (ζ-height of the sea at (s·y_i, y_i)) for scan lines s, samples u.
 
@@ -302,27 +302,23 @@ def sea_profile(sea, s, u, h: float, t: float = 0.0):
     s, u, y, elev = _profile_arrays(s, u)
     if u.size == 0:
         return elev
-    phase = np.empty_like(elev)
-    acc = None
+    theta = np.empty_like(elev)
+    poly = np.empty_like(elev)
     const = 0.0
-    for i, (_l, _m, b, c, amps) in enumerate(_sea_terms(sea, s, t)):
-        np.multiply(b[:, None], y[None, :], out=phase)
-        phase += c
-        np.cos(phase, out=phase)
-        # Σ_n a_n cos nθ = Σ_j p_j cos^j θ (Chebyshev), by Horner's rule in place;
-        # p_0 is added once at the end
+    for _l, _m, b, c, amps in _sea_terms(sea, s, t):
+        # θ = b_j y + c_j on every (scan line, sample), then cos θ in place
+        np.multiply(b[:, None], y[None, :], out=theta)
+        theta += c
+        np.cos(theta, out=theta)
+        # Σ_n a_n cos nθ = Σ_k p_k cos^k θ (Chebyshev): Horner's rule for the
+        # terms k ≥ 1; the constants p_0 of every train are added once, below
         p = _chebyshev_power(amps)
+        np.multiply(theta, _F32(p[-1]), out=poly)
+        for pk in p[-2:0:-1]:
+            poly += _F32(pk)
+            poly *= theta
+        elev += poly
         const += p[0]
-        if i == 0:
-            acc = elev
-        elif acc is elev:
-            acc = np.empty_like(elev)
-        np.multiply(phase, _F32(p[-1]), out=acc)
-        for pj in p[-2:0:-1]:
-            acc += _F32(pj)
-            acc *= phase
-        if acc is not elev:
-            elev += acc
     elev += _F32(const - h)
     elev *= u.astype(_F32)[None, :]
     return elev
@@ -343,7 +339,7 @@ def _chebyshev_power_of(amps: bytes) -> np.ndarray:
     return p
 
 
-@twin("sunset.vector.slopes_numba", numpy_trig=True)
+@twin("sunset.vector.slopes_numba")
 def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     """(∂f/∂x, ∂f/∂y) of the sea at (s·y, y), in the paper's b_j, c_j form.
 
@@ -355,39 +351,23 @@ def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     s, y : ndarray
         Same shape: the scan line of each point and its distance, metres.
     """
-    s = np.asarray(s, dtype=np.float64)
+    s = np.asarray(s, dtype=_F32)
     y = np.asarray(y, dtype=_F32)
     fx = np.zeros(y.shape, dtype=_F32)
     fy = np.zeros(y.shape, dtype=_F32)
-    th = np.empty(y.shape, dtype=_F32)
-    tmp = np.empty(y.shape, dtype=_F32)
-    s32 = s.astype(_F32)
     for l, m, _b, c, amps in _sea_terms(sea, s[:0], t):
-        # b = ℓ s + m per point, in float32 like the rest (one pass less than
-        # widening s)
-        np.multiply(s32, _F32(l), out=th)
-        th += _F32(m)
-        th *= y
-        th += c
-        sn = np.sin(th)
+        theta = (s * _F32(l) + _F32(m)) * y + c          # b_j y + c_j with b_j = ℓ_j s + m_j
+        cos_theta = np.cos(theta)
         # Σ_n n a_n sin nθ = sin θ · q(cos θ), q = p′ the derivative of Σ_n a_n T_n
-        # (sin nθ = sin θ U_(n−1), n U_(n−1) = T_n′)
+        # (sin nθ = sin θ U_(n−1)(cos θ), n U_(n−1) = T_n′), by Horner's rule
         q = np.polynomial.polynomial.polyder(_chebyshev_power(amps))
-        if len(q) > 1:
-            cs = np.cos(th, out=th)
-            np.multiply(cs, _F32(q[-1]), out=tmp)
-            for qj in q[-2:0:-1]:
-                tmp += _F32(qj)
-                tmp *= cs
-            tmp += _F32(q[0])
-            sn *= tmp
-            slope, scale = sn, 1.0
-        else:
-            slope, scale = sn, q[0]
-        np.multiply(slope, _F32(l * scale), out=tmp)
-        fx -= tmp
-        np.multiply(slope, _F32(m * scale), out=tmp)
-        fy -= tmp
+        dq = np.full(y.shape, _F32(q[-1]))
+        for qk in q[-2::-1]:
+            dq *= cos_theta
+            dq += _F32(qk)
+        slope = np.sin(theta) * dq
+        fx -= _F32(l) * slope
+        fy -= _F32(m) * slope
     return fx, fy
 
 
@@ -440,7 +420,7 @@ def sea_scan(u, g, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf)
     return tail_pixels
 
 
-@twin("sunset.vector.heightfield_numba", numpy_trig=True)
+@twin("sunset.vector.heightfield_numba")
 def sea_columns(sea, s, u, h: float, t: float, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf) -> int:
     """The sea on C scan lines: :func:`sea_profile`, then :func:`sea_scan` into the depth buffer.
 

@@ -1,17 +1,16 @@
 """Numba twins of :func:`sunset.vector.heightfield.sea_scan` (the scan line, the far tail and the depth buffer in one
-compiled loop), of :func:`sunset.vector.heightfield.sea_profile` (the phases, NumPy's float32 cosine and Horner's
-rule, compiled) and of :func:`sunset.vector.heightfield.sea_columns` (both, one scan line at a time).
+compiled loop), of :func:`sunset.vector.heightfield.sea_profile` (the phases, the cosines and Horner's rule,
+compiled) and of :func:`sunset.vector.heightfield.sea_columns` (both, one scan line at a time).
 
 :func:`scan_columns` is the paper's scan-line loop
 (:func:`sunset.vector.heightfield.scan_line_reference`) with the arithmetic of
-the vectorized :func:`sunset.vector.heightfield.scan_convert` (same pixel units
-in the profile's precision, same interpolation), over many scan lines of
-ragged length; :func:`scan_merge` adds the sea's far tail and the
-per-scan-line depth buffer. The same operations in the same order as the
-NumPy reference, one element at a time: the frames are identical (tests).
-The profile's cosines are :func:`sunset.trig_numba.cos_into`, NumPy's own
-float32 algorithm compiled, so these two twins are declared
-``numpy_trig=True`` and run only where its probe passes.
+the vectorized :func:`sunset.vector.heightfield.scan_convert` (the pixel units
+in the profile's precision, the interpolation in float64), over many scan
+lines of ragged length; :func:`scan_merge` adds the sea's far tail and the
+per-scan-line depth buffer. The profile's cosines are our own vectorised
+float32 cosine (:mod:`sunset.vector.sincos_numba`), not NumPy's, so the
+profile agrees with the reference to a float32 rounding or two and the
+frames within the tolerances of chapter 10 (tests).
 :func:`sea_columns` computes a scan line's profile into a buffer of one scan
 line and scan-converts it while it is in cache: no (C, n) profile at all. Its
 scan line is :func:`_scan_row_b`, the same result as :func:`_scan_row`
@@ -26,7 +25,7 @@ import numpy as np
 
 from ..constants import SEA
 from ..kernels import jit as _jit
-from ..trig_numba import COS_LIMIT, _ZERO, _pick, _reduce, cos32
+from .sincos_numba import LIMIT, cos_into, cos_of, parts
 from . import heightfield as _reference
 from .heightfield import _F32, _chebyshev_power, _profile_arrays, _sea_terms
 
@@ -74,8 +73,7 @@ def _scan_row(u, us, g, gs, n, zeta0, dzeta, inv_dzeta_t, zeta0_t, neg_inf_t, kf
                     f = 0.0
                 out[k] = u0 + f * (u1 - u0)
             else:
-                u0 = u[us]
-                out[k] = u0 + 0.0 * (u0 - u0)
+                out[k] = u[us]
             k += 1
         i += 1
     while k < K:
@@ -129,8 +127,7 @@ def _scan_row_b(u, us, g, gs, n, zeta0, dzeta, inv_dzeta_t, zeta0_t, kf_t, zero_
                 f = 0.0
             out[k] = u0 + f * (u1 - u0)
         else:
-            u0 = u[us]
-            out[k] = u0 + 0.0 * (u0 - u0)
+            out[k] = u[us]
 
 
 @_jit
@@ -257,7 +254,7 @@ def sea_scan(u, g, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf)
 
 
 def _sea_coefficients(sea, s, t: float, h: float):
-    """The profile's inputs for the compiled loops, float32 as the reference rounds them.
+    """The profile's inputs for the compiled loops, in float32.
 
     Per train j: b_j = ℓ_j s + m_j per scan line (T, C), c_j (T,), the
     Chebyshev power coefficients p_0 … p_(n−1) padded with zeros (T, D) and
@@ -278,25 +275,10 @@ def _sea_coefficients(sea, s, t: float, h: float):
 
 @_jit
 def _cos_phase_into(b, y, c, x, w):
-    """x = b·y + c (multiply, then add) and w = cos x, float32, NumPy's bits (:func:`sunset.trig_numba.cos_into`).
-
-    cos_into's loop, but with no counter of the rare phases in it (a 64-bit
-    counter halves the width LLVM vectorises it at); they are looked for
-    after, in a loop of their own.
-    """
-    N = y.shape[0]
-    for i in range(N):
-        xi = b * y[i] + c
-        x[i] = xi
-        iq, s, cs = _reduce(xi if abs(xi) <= COS_LIMIT else _ZERO)
-        w[i] = _pick(iq + np.int32(1), s, cs)
-    rare = False
-    for i in range(N):
-        rare |= not abs(x[i]) <= COS_LIMIT
-    if rare:
-        for i in range(N):
-            if not abs(x[i]) <= COS_LIMIT:
-                w[i] = cos32(x[i])
+    """x = b·y + c and w = cos x, float32 (:func:`sunset.vector.sincos_numba.cos_into`)."""
+    for i in range(y.shape[0]):
+        x[i] = b * y[i] + c
+    cos_into(x, w)
 
 
 @_jit
@@ -304,13 +286,13 @@ def _train_into(bj, cj, top, p1, degree, last, y, u32, const, g, first):
     """One train's share of a scan line's profile in one pass, for a Horner polynomial of ``degree`` 1 or 2.
 
     The operations of :func:`_profile_row` element by element (θ = b y + c,
-    NumPy's float32 cos θ, Horner's rule, the profile written or added to,
-    and for the ``last`` train (g + Σ p_0 − h)·u), with no arrays in
-    between. Every phase must be within NumPy's limit (:func:`_profile_row_fast` checks).
+    cos θ, Horner's rule, the profile written or added to, and for the
+    ``last`` train (g + Σ p_0 − h)·u), with no arrays in between. Every
+    phase must be within the cosine's fast range (:func:`_profile_row_fast` checks).
     """
     for i in range(y.shape[0]):
-        iq, s, cs = _reduce(bj * y[i] + cj)
-        w = _pick(iq + np.int32(1), s, cs)
+        q, s, cs = parts(bj * y[i] + cj)
+        w = cos_of(q, s, cs)
         acc = w * top
         if degree == 2:
             acc = (acc + p1) * w
@@ -321,7 +303,7 @@ def _train_into(bj, cj, top, p1, degree, last, y, u32, const, g, first):
 @_jit
 def _profile_row_fast(col, b, c, p, n, y, u32, const, x, w, g):
     """:func:`_profile_row` with one pass for each train whose polynomial is of degree 1 or 2 and whose phases are all
-    within NumPy's limit (the same bits; the others as there). ``y`` must be non-decreasing.
+    within the cosine's fast range (the others as there). ``y`` must be non-decreasing.
 
     Rounding is monotone, so the phases fl(fl(b y_i) + c) of sorted y_i are
     sorted too: the first and the last bound them all.
@@ -332,7 +314,7 @@ def _profile_row_fast(col, b, c, p, n, y, u32, const, x, w, g):
         bj, cj, d = b[j, col], c[j], n[j] - 1
         top = p[j, d]
         first, last = j == 0, j == T - 1
-        if (d == 1 or d == 2) and N and abs(bj * y[0] + cj) <= COS_LIMIT and abs(bj * y[N - 1] + cj) <= COS_LIMIT:
+        if (d == 1 or d == 2) and N and abs(bj * y[0] + cj) <= LIMIT and abs(bj * y[N - 1] + cj) <= LIMIT:
             _train_into(bj, cj, top, p[j, 1], d, last, y, u32, const, g, first)
             continue
         _cos_phase_into(bj, y, cj, x, w)
@@ -361,10 +343,10 @@ def _profile_row(col, b, c, p, n, y, u32, const, x, w, g):
     N = y.shape[0]
     for j in range(b.shape[0]):
         bj, cj, top = b[j, col], c[j], p[j, n[j] - 1]
-        # θ = b_j y + c_j, and NumPy's float32 cos θ bit for bit
+        # θ = b_j y + c_j and cos θ
         _cos_phase_into(bj, y, cj, x, w)
         # Horner's rule in cos θ (p_0 is added at the end); the first
-        # train writes the profile, the others add (0 + (−0) is not −0)
+        # train writes the profile, the others add
         acc = g if j == 0 else x
         for i in range(N):
             acc[i] = w[i] * top
@@ -422,7 +404,7 @@ def _monotone(y) -> bool:
 
 
 def sea_profile(sea, s, u, h: float, t: float = 0.0):
-    """:func:`sunset.vector.heightfield.sea_profile` compiled, cosines included: the same float32 bits."""
+    """:func:`sunset.vector.heightfield.sea_profile` compiled, cosines included (float32)."""
     s, u, y, elev = _profile_arrays(s, u)
     if u.size:
         b, c, p, n, const = _sea_coefficients(sea, s, t, h)

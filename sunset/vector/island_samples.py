@@ -247,7 +247,7 @@ def island_scan(island, s, samp: Sampling, d: float, h: float, m0: int, zeta0: f
     return int(valid.sum())
 
 
-@twin("sunset.vector.island_samples_numba", numpy_trig=True)
+@twin("sunset.vector.island_samples_numba")
 def islands_scan(islands, m0s, s_all, c0: int, c1: int, samp: Sampling, d: float, h: float, zeta0: float,
                  dzeta: float, K: int, sigma: float, budget: int, refine: bool, best_u, best_surf) -> int:
     """Every island on scan lines ``s_all[c0:c1]`` (:func:`island_scan`, in island order), into their depth buffers.

@@ -14,7 +14,7 @@ import functools
 import numpy as np
 
 from ..kernels import jit as _jit
-from ..trig_numba import cos_into
+from .sincos_numba import cos_into
 from .heightfield_numba import _scan_row, scan_merge
 from .island_samples import _island_lattice, _island_profile, _island_profile_flat, _island_samples_flat
 
@@ -74,22 +74,21 @@ def island_scan(island, s, samp, d: float, h: float, m0: int, zeta0: float, dzet
 # The islands' whole pass on a strip of scan lines, compiled: the chords of the bounding ellipses, the probe
 # lattice, its profile, the adaptive cut of the probe intervals, the samples' profile, the scan line and the
 # depth buffer, one scan line at a time with the GIL released, so that the strips of
-# :func:`sunset.vector.direct.island_pass` run on all cores. Every scan line's numbers are those of the NumPy
-# reference (:func:`sunset.vector.island_samples.islands_scan`), operation for operation: float64 where it
-# computes in float64, float32 (Python floats rounded to float32 first) where it computes in float32, NumPy's
-# own float32 cosine (:func:`sunset.trig_numba.cos32`).
+# :func:`sunset.vector.direct.island_pass` run on all cores. The NumPy reference is
+# :func:`sunset.vector.island_samples.islands_scan`: float64 where it computes in float64, float32 where it
+# computes in float32, with our own float32 cosine (:mod:`sunset.vector.sincos_numba`).
 
 #: Columns of the packed float32 island parameters (:func:`_pack`).
 _X, _Y, _CH, _CE, _CF, _CG, _BH, _BE, _BF, _BG, _CT, _PHI = range(12)
 
 
 @_jit
-def _profile_into(p, cos_p, has_phase, c0, c1, s, uu, n, h32, xb, yb, pb, cb, g):
+def _profile_into(p, cos_p, c0, c1, s, uu, n, h32, xb, yb, pb, cb, g):
     """g[i] = (H − h)·u at the samples uu[i] (1/y), i < n, of scan line s, float32 (:func:`_island_profile_flat`).
 
     ``xb``, ``yb``, ``pb``, ``cb`` (≥ n) float32 are scratch. The island's surface
     (:meth:`sunset.model.islands.Island.surface`) term by term over the
-    samples, so that the cosines run vectorised (:func:`sunset.trig_numba.cos_into`).
+    samples, so that the cosines run vectorised (:func:`sunset.vector.sincos_numba.cos_into`).
     """
     x = xb[:n]
     y = yb[:n]
@@ -107,12 +106,8 @@ def _profile_into(p, cos_p, has_phase, c0, c1, s, uu, n, h32, xb, yb, pb, cb, g)
         g[i] = he - (e * dx * dx + f * dx * dy + gg * dy * dy)
     for j in range(c0, c1):
         a, l, m, phase = cos_p[j, 0], cos_p[j, 1], cos_p[j, 2], cos_p[j, 3]
-        if has_phase[j]:
-            for i in range(n):
-                ph[i] = l * x[i] + m * y[i] + phase
-        else:
-            for i in range(n):
-                ph[i] = l * x[i] + m * y[i]
+        for i in range(n):
+            ph[i] = l * x[i] + m * y[i] + phase
         cos_into(ph, cs)
         for i in range(n):
             g[i] = g[i] + a * cs[i]
@@ -184,7 +179,7 @@ def _fmax(a, b):
 
 
 @_jit
-def _islands_strip(s_all, c_lo, c_hi, params, cos_p, has_phase, cos_start, chords, m0s, y_clip, du_sea, zeta0,
+def _islands_strip(s_all, c_lo, c_hi, params, cos_p, cos_start, chords, m0s, y_clip, du_sea, zeta0,
                    dzeta, K, sigma, budget, refine, h, best_u, best_surf, row0):
     """Scan lines c_lo..c_hi − 1 of every island, merged into ``best_u``/``best_surf`` rows c − row0; samples."""
     h32 = np.float32(h)
@@ -241,7 +236,7 @@ def _islands_strip(s_all, c_lo, c_hi, params, cos_p, has_phase, cos_start, chord
                     uu[i] = up[i]
             else:
                 # the probe's profile in pixel units
-                _profile_into(p, cos_p, has_phase, c0, c1, s, up, m, h32, xb, yb, pb, cb, gg)
+                _profile_into(p, cos_p, c0, c1, s, up, m, h32, xb, yb, pb, cb, gg)
                 for i in range(m):
                     r = (np.float64(gg[i]) - zeta0) / dzeta
                     if r < -1.0:
@@ -290,7 +285,7 @@ def _islands_strip(s_all, c_lo, c_hi, params, cos_p, has_phase, cos_start, chord
                         uu[pos] = u_a + (u_b - u_a) * (q / nj)
                         pos += 1
                 uu[pos] = up[m - 1]
-            _profile_into(p, cos_p, has_phase, c0, c1, s, uu, total, h32, xb, yb, pb, cb, gg)
+            _profile_into(p, cos_p, c0, c1, s, uu, total, h32, xb, yb, pb, cb, gg)
             # the highest pixel the island reaches on this scan line (its profile's top, in _scan_row's units):
             # the pixels above it stay 0 and cannot win, so only those below are scan-converted and merged
             top_g = neg_inf_t
@@ -316,7 +311,7 @@ def _pack(islands: tuple, d: float):
     n = len(islands)
     params = np.zeros((n, 12), np.float32)
     chords = np.zeros((n, 2, 8))
-    cos_rows, flags, start = [], [], [0]
+    cos_rows, start = [], [0]
     for k, isl in enumerate(islands):
         params[k] = [isl.x, isl.y, isl.cliff.height, isl.cliff.e, isl.cliff.f, isl.cliff.g, isl.beach.height,
                      isl.beach.e, isl.beach.f, isl.beach.g, isl.cliff_top, isl.hill_factor]
@@ -327,19 +322,18 @@ def _pack(islands: tuple, d: float):
             chords[k, i] = [par.e, par.f, par.g, X, Y, 2.0 * par.e, 2.0 * par.g * Y, c]
         for cs in isl.cosines:
             cos_rows.append([cs.amplitude, cs.l, cs.m, cs.phase])
-            flags.append(bool(cs.phase))
         start.append(len(cos_rows))
     cos_p = np.array(cos_rows, np.float32).reshape(-1, 4)
-    return params, cos_p, np.array(flags, np.bool_), np.array(start, np.int64), chords
+    return params, cos_p, np.array(start, np.int64), chords
 
 
 def islands_scan(islands, m0s, s_all, c0: int, c1: int, samp, d: float, h: float, zeta0: float, dzeta: float,
                  K: int, sigma: float, budget: int, refine: bool, best_u, best_surf) -> int:
     """:func:`sunset.vector.island_samples.islands_scan` in one compiled call (no GIL held)."""
-    params, cos_p, has_phase, cos_start, chords = _pack(tuple(islands), float(d))
+    params, cos_p, cos_start, chords = _pack(tuple(islands), float(d))
     m0 = np.array([0.0 if m is None else float(m) for m in m0s], np.float64)
     if not (best_u.flags.c_contiguous and best_surf.flags.c_contiguous):
         raise ValueError("best_u and best_surf must be C-contiguous")
-    return int(_islands_strip(np.ascontiguousarray(s_all, np.float64), int(c0), int(c1), params, cos_p, has_phase,
+    return int(_islands_strip(np.ascontiguousarray(s_all, np.float64), int(c0), int(c1), params, cos_p,
                               cos_start, chords, m0, float(samp.y_clip), float(samp.du), float(zeta0), float(dzeta),
                               int(K), float(sigma), int(budget), bool(refine), float(h), best_u, best_surf, int(c0)))

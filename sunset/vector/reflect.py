@@ -67,7 +67,7 @@ def trace_reflections(scene, frame: Frame, reflections: int,
     return frame
 
 
-@twin("sunset.vector.reflect_numba", numpy_trig=True)
+@twin("sunset.vector.reflect_numba")
 def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     """The work of :func:`trace_reflections` on a frame with sea pixels: reflect, pierce, write back.
 

@@ -1,17 +1,16 @@
 """Numba twins of the sea's slopes on the scan lines and of the sea pixels' unit normals.
 
 :func:`sea_gradient_on_scanlines` is :func:`sunset.vector.heightfield.sea_gradient_on_scanlines`
-compiled: per train, the phase b_j y + c_j in float32 (the reference's
-multiply, add, multiply, add), its sine and cosine from one reduction with
-NumPy's own float32 algorithm (:func:`sunset.trig_numba.sincos_into`, bit
-for bit), Horner's rule for q(cos θ) and the slopes subtracted, one pass
-each over a block of points that stays in the cache. :func:`put_sea_normals`
-is :func:`sunset.vector.direct.put_sea_normals`: the same slopes turned into
+compiled: per train, the phase b_j y + c_j in float32, its sine and cosine
+from one reduction (our own vectorised float32 sine and cosine,
+:func:`sunset.vector.sincos_numba.sincos_into`), Horner's rule for
+q(cos θ) and the slopes subtracted, one pass each over a block of points
+that stays in the cache. :func:`put_sea_normals` is
+:func:`sunset.vector.direct.put_sea_normals`: the same slopes turned into
 unit normals (:func:`sunset.model.waves.unit_normal` in float32) and written
 into the frame's pixels in the same loop, with no slope arrays in between.
-The same operations in the same order as the NumPy reference: the frames
-are identical (tests). Chosen by :mod:`sunset.kernels` where
-:func:`sunset.kernels.compiled_trig` holds.
+They agree with the NumPy reference within the tolerances of chapter 10
+(tests). Chosen by :mod:`sunset.kernels`.
 """
 
 from __future__ import annotations
@@ -22,7 +21,7 @@ import math
 import numpy as np
 
 from ..kernels import jit as _jit
-from ..trig_numba import sincos_into
+from .sincos_numba import sincos_into
 from .heightfield import _F32, _chebyshev_power, _sea_terms
 
 #: Points per block: the block's phases, sines, cosines and slopes stay in the cache.
@@ -33,9 +32,9 @@ def slope_terms(sea, t: float):
     """Each moving train's float32 constants: ℓ, m, c, the slope factors ℓ·scale, m·scale, and q's coefficients.
 
     Returns ``(l, m, c, lx, my, q, nq)``: arrays over the trains (q (trains,
-    max len) float32, nq its lengths), as the reference builds them: q = p′,
-    the derivative of Σ_n a_n T_n in powers of cos θ; with one coefficient the
-    slope is sin θ and the scale q₀ goes into the factors. Kept for the
+    max len) float32, nq its lengths): q = p′, the derivative of
+    Σ_n a_n T_n in powers of cos θ; with one coefficient the slope is
+    sin θ and the scale q₀ goes into the factors. Kept for the
     last few (sea, t): every strip of a frame asks for the same (the arrays
     are only read).
     """
@@ -63,7 +62,7 @@ def _slope_terms(sea, t: float, sign: float):
 
 @_jit
 def _slopes_block(s32, y32, l, m, c, lx, my, q, nq, th, sn, cs, acc, fx, fy):
-    """fx, fy[0 : n] = the slopes at the n points (s32, y32), as the reference's passes (float32)."""
+    """fx, fy[0 : n] = the slopes at the n points (s32, y32), float32, one pass per train and step."""
     n = y32.shape[0]
     zero = np.float32(0.0)
     for i in range(n):
@@ -146,7 +145,7 @@ def _points(s, y):
 
 
 def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
-    """:func:`sunset.vector.heightfield.sea_gradient_on_scanlines` compiled: the same float32 bits."""
+    """:func:`sunset.vector.heightfield.sea_gradient_on_scanlines` compiled (float32)."""
     shape = np.shape(y)
     s32, y32 = _points(s, y)
     fx = np.empty(y32.shape, _F32)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from sunset.model.camera import Camera
-from sunset.tape.codes import (CODE_MAP, CodeMap, CodeRange, elevation_index, encode, island_code_rho, island_offsets, rho,
+from sunset.tape.codes import (CODE_MAP, CodeMap, CodeRange, dither, elevation_index, encode, island_code_rho, island_offsets, rho,
                           rho_hat,
                           sky_code_z, sky_index, sun_plane_angle, track_code_elevations, track_elevation_max)
 from sunset.constants import HALO_FACTOR, N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
@@ -168,6 +168,50 @@ def test_dither_is_unbiased_and_splits_by_the_fraction():
     assert set(np.unique(off)) == {13, 14}
     assert abs(np.mean(off == 14) - 0.3) < 0.005
     assert abs(np.mean(off) - 13.3) < 0.005
+
+
+def splitmix64(state: int, count: int) -> list[int]:
+    """SplitMix64 (Steele, Lea and Flood 2014) in Python's integers: the first ``count`` outputs from ``state``."""
+    mask, out = (1 << 64) - 1, []
+    for _ in range(count):
+        state = (state + 0x9E3779B97F4A7C15) & mask
+        z = state
+        z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & mask
+        z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & mask
+        out.append(z ^ (z >> 31))
+    return out
+
+
+def test_the_dither_is_splitmix64():
+    # SplitMix64's first output from state 0 is 0xE220A8397B1DCDAF (Vigna's splitmix64.c)
+    assert splitmix64(0, 1) == [0xE220A8397B1DCDAF]
+    for seed in (0, 5, 2**32 - 1):
+        ref = [z >> 11 for z in splitmix64(seed, 2 * 60)]         # u, v of pixel 0, then of pixel 1, ...
+        u, v = dither(seed, 0, (6, 10), 0), dither(seed, 0, (6, 10), 1)
+        assert (u.ravel() * 2.0**53).astype(np.int64).tolist() == ref[0::2]
+        assert (v.ravel() * 2.0**53).astype(np.int64).tolist() == ref[1::2]
+        assert u.shape == (6, 10) and u.dtype == np.float64
+
+
+def test_a_strips_dither_is_its_piece_of_the_frames():
+    H, W = 23, 31
+    for which in (0, 1):
+        frame = dither(77, 0, (H, W), which)
+        np.testing.assert_array_equal(dither(77, 5 * W, (4, W), which), frame[5:9])
+        np.testing.assert_array_equal(dither(77, 11 * W + 3, (40,), which), frame.reshape(-1)[11 * W + 3:][:40])
+    assert not np.array_equal(dither(77, 0, (H, W), 0), dither(78, 0, (H, W), 0))
+
+
+def test_the_dither_is_uniform_and_uncorrelated():
+    u = dither(3, 0, (1000, 1000), 0)
+    v = dither(3, 0, (1000, 1000), 1)
+    for x in (u, v):
+        values = np.sort(x.ravel())
+        ks = np.max(np.abs(values - (np.arange(values.size) + 0.5) / values.size))
+        assert 0.0 <= values[0] and values[-1] < 1.0 and ks < 0.002    # 1.36/√n = 0.00136 at the 5 % level
+    # neither u and v of a pixel nor neighbours along a row or a column are correlated
+    for a, b in ((u, v), (u[:, 1:], u[:, :-1]), (u[1:], u[:-1])):
+        assert abs(np.corrcoef(a.ravel(), b.ravel())[0, 1]) < 0.005
 
 
 def test_island_offsets_wrap_around_the_turn():

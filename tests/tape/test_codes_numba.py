@@ -1,9 +1,12 @@
-"""The compiled coding (sunset/tape/codes_numba.py) against the NumPy reference, bit for bit.
+"""The compiled coding (sunset/tape/codes_numba.py) against the NumPy reference.
 
-The twin of ``encode_rows`` draws the dither inside its loop from PCG64
-streams it steps itself; its numbers must be NumPy's, and the codes of
-every scene (islands, glitter, posts, clouds) the reference's, for any cut
-into strips and any number of threads.
+The twin of ``encode_rows`` computes the dither inside its loop: its numbers
+must be those of ``codes.dither`` exactly (64-bit integer arithmetic, which
+both paths compute exactly), for any row offset. Given the same traced frame
+the two paths' codes must agree as tests/agree.py says (they differ only
+where a value lies within a rounding of a code boundary), for any cut into
+strips and any number of threads, and each path's codes must be the same
+bytes whatever the cut and the threads.
 """
 
 import numpy as np
@@ -16,15 +19,18 @@ from sunset.model.scene import as_scene
 from sunset.tape import codes, codes_numba
 from sunset.vector.render import render
 
+from ..agree import assert_codes_agree
 
-@pytest.mark.parametrize("seed, skip", [(0, 0), (1, 1), (9, 12345), (2**32 - 1, 10**12 + 7)])
-def test_the_compiled_stream_is_numpys(seed, skip):
-    st = codes_numba._stream(seed, skip)
-    got = np.empty(20011)
-    codes_numba._pcg_fill(st[0], st[1], st[2], st[3], got)
-    np.testing.assert_array_equal(got.view(np.uint64), codes.dither(seed, skip, got.shape).view(np.uint64))
-    # one number off is seen
-    assert not np.array_equal(got, codes.dither(seed, skip + 1, got.shape))
+
+@pytest.mark.parametrize("seed, start", [(0, 0), (1, 1), (9, 12345), (2**32 - 1, 10**12 + 7)])
+def test_the_compiled_dither_is_the_numpy_one(seed, start):
+    for which in (0, 1):
+        got = np.empty(20011)
+        codes_numba._dither_fill(seed, start, which, got)
+        want = codes.dither(seed, start, got.shape, which)
+        np.testing.assert_array_equal(got.view(np.uint64), want.view(np.uint64))
+        # one pixel off is seen
+        assert not np.array_equal(got, codes.dither(seed, start + 1, got.shape, which))
 
 
 def code_rows(scene, frame, seed, cuts, rows_fn):
@@ -32,13 +38,13 @@ def code_rows(scene, frame, seed, cuts, rows_fn):
     out = np.zeros((H, W), np.uint8)
     left = {}
     for r0, r1 in cuts:
-        left[r0] = rows_fn(out[r0:r1], frame.rows(r0, r1), seed, r0, H, scene.sun, codes.code_map(scene))
+        left[r0] = rows_fn(out[r0:r1], frame.rows(r0, r1), seed, r0, scene.sun, codes.code_map(scene))
     return out, left
 
 
 @pytest.mark.parametrize("name", ["carlas-island", "post-in-the-swell", "carlas-island-clouds",
                                   "archipelago-at-dusk"])
-def test_the_compiled_rows_are_the_numpy_ones(name):
+def test_the_compiled_rows_agree_with_the_numpy_ones(name):
     scene = as_scene(name).with_size(173, 131)
     frame = render(scene, 0.8, 2)
     H, W = frame.shape
@@ -50,19 +56,22 @@ def test_the_compiled_rows_are_the_numpy_ones(name):
         got, got_u = code_rows(scene, frame, seed, cuts, codes.encode_rows.compiled())
         # islands and sky coded alike; posts and clouds are left to encode, with the rows' u where there are any
         done = (frame.final_surface >= 1) | (frame.final_surface == -1)
-        np.testing.assert_array_equal(got[done], want[done])
+        assert_codes_agree(scene, frame, frame, np.where(done, want, 0), np.where(done, got, 0), seed, name)
         for r0, r1 in cuts:
             rest = ~done[r0:r1]
             if rest.any():
                 np.testing.assert_array_equal(got_u[r0], want_u[0][r0:r1])
             else:
                 assert got_u[r0] is None
-        # and whole frames, on both paths and any threads
+        # whole frames: each path the same bytes on any threads, and the two paths agreeing
         with kernels.use_compiled(False):
             ref = codes.encode(scene, frame, seed=seed)
-        for n in (1, 2, 3):
+        with kernels.use_compiled(True), kernels.use_threads(1):
+            one = codes.encode(scene, frame, seed=seed)
+        assert_codes_agree(scene, frame, frame, ref, one, seed, name)
+        for n in (2, 3):
             with kernels.use_compiled(True), kernels.use_threads(n):
-                np.testing.assert_array_equal(codes.encode(scene, frame, seed=seed), ref)
+                np.testing.assert_array_equal(codes.encode(scene, frame, seed=seed), one)
 
 
 def test_an_unknown_island_part_is_refused_on_both_paths():

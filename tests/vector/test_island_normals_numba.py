@@ -1,4 +1,9 @@
-"""The compiled island normals of the direct frame (direct_numba.put_island_normals) against the NumPy reference, bit for bit."""
+"""The compiled island normals of the direct frame (direct_numba.put_island_normals) against the NumPy reference.
+
+The same float32 surface on both paths, with NumPy's cosines and sines on
+one and the compiled kernels' own (sunset.vector.sincos_numba) on the
+other: the parts the same, the unit normals within a float32 rounding or two.
+"""
 
 from dataclasses import replace
 
@@ -11,6 +16,9 @@ from sunset.vector import direct, direct_numba
 
 from .test_slopes_numba import same_bits
 
+#: The unit normals at the same points on both paths, absolute (measured 1.2e-7: a float32 rounding).
+NORMAL_ATOL = 2.5e-7
+
 
 def islands():
     """The default scene's islands, and the first one again with phases in its cosines."""
@@ -21,7 +29,7 @@ def islands():
 
 @pytest.mark.parametrize("k", range(4))
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
-def test_island_normals_are_numpys(k, dtype):
+def test_island_normals_agree_with_numpys(k, dtype):
     island = islands()[k]
     rng = np.random.default_rng(k)
     H, W, n = 60, 90, 5000
@@ -35,11 +43,14 @@ def test_island_normals_are_numpys(k, dtype):
     with kernels.use_compiled(False):
         direct.put_island_normals.reference(island, want_n, want_p, idx, s, y)
     direct_numba.put_island_normals(island, got_n, got_p, idx, s, y)
-    assert same_bits(got_n, want_n) and same_bits(got_p, want_p)
+    assert same_bits(got_p, want_p)
     assert set(np.unique(want_p.reshape(-1)[idx])) == {1, 2, 3}
-    # the comparison can fail: one ulp in one normal is caught
-    got_n.reshape(-1, 3)[idx[7], 0] = np.nextafter(got_n.reshape(-1, 3)[idx[7], 0], np.float32(np.inf))
-    assert not same_bits(got_n, want_n)
+    err = np.linalg.norm(got_n.reshape(-1, 3) - want_n.reshape(-1, 3), axis=-1)
+    assert err[idx].max() <= NORMAL_ATOL
+    assert np.isnan(np.delete(got_n.reshape(-1, 3), idx, 0)).all()
+    # the comparison can fail: a normal off by twice the tolerance is caught
+    got_n.reshape(-1, 3)[idx[7], 0] += np.float32(2 * NORMAL_ATOL)
+    assert np.linalg.norm(got_n.reshape(-1, 3) - want_n.reshape(-1, 3), axis=-1)[idx].max() > NORMAL_ATOL
 
 
 def test_the_phases_matter():
