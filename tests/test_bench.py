@@ -34,6 +34,7 @@ def test_json_holds_every_measurement(report):
     assert "Figure 6 frame 36x30" in whats
     assert "Figure 6 frame 36x30, NumPy kernels" in whats
     assert "Figure 6 frame 36x30, one thread" in whats
+    assert "Figure 6 frame 36x30, NumPy's SIMD off" in whats
     assert "2-frame cycle 24x20" in whats
     explorer = {r["stage"] for r in data["rows"] if r["what"] == "explorer update 32x24"}
     assert explorer == {"time (8-bit)", "sun's azimuth (8-bit)", "hours (8-bit)", "time (RGB)"}

@@ -357,7 +357,7 @@ def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
     frame : Frame
         A frame whose reflections have been traced.
     seed : int
-        Seed of the dither (:func:`dither`), the same for every frame, so a
+        Seed of the dither (:func:`sunset.tape.codes.dither`), the same for every frame, so a
         still scene codes the same way in every frame.
 
     Returns
