@@ -9,7 +9,7 @@ registers, with the C library's float64 functions and its own float32 sine
 and cosine (:mod:`sunset.vector.sincos_numba`). The two are two arithmetic
 paths, not one: they agree within the tolerances that chapter 10 measures
 and the tests state (geometry to a few float32 roundings, the 8-bit codes on
-all but a few pixels in a hundred thousand), and each is byte-deterministic
+all but a few pixels in a million), and each is byte-deterministic
 on its own.
 
 A stage marks its reference kernel with :func:`twin`; that is the only place

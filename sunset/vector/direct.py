@@ -95,7 +95,7 @@ def island_pass(scene, refine_islands: bool = True) -> IslandPass:
     if any(m0 is not None for m0 in probes):
         # compiled, one scan line at a time: no bound on the strips; the reference pads a strip's scan lines
         # to its longest (at most 2 budget samples each, see probe_refinement)
-        most = None if enabled() and compiled_trig() else max(1, SCANLINE_CHUNK_ELEMENTS // budget)
+        most = None if enabled() else max(1, SCANLINE_CHUNK_ELEMENTS // budget)
         samples = sum(run_strips(work, strips(W, most)))
     return IslandPass(key=island_key(scene, refine_islands), u=u, code=code, samples=samples, probe=probes)
 
