@@ -8,9 +8,9 @@ the renderer: the same algorithm one element at a time with everything in
 registers, with the C library's float64 functions and its own float32 sine
 and cosine (:mod:`sunset.vector.sincos_numba`). The two are two arithmetic
 paths, not one: they agree within the tolerances that chapter 10 measures
-and the tests state (geometry to a few float32 roundings, the 8-bit codes on
-all but a few pixels in a million), and each is byte-deterministic
-on its own.
+and the tests state (geometry to a few float32 roundings, the 8-bit codes
+the same on all but a few pixels in a million), and each is
+byte-deterministic on its own.
 
 A stage marks its reference kernel with :func:`twin`; that is the only place
 where the choice is made::
@@ -177,17 +177,20 @@ def twin(module: str):
 # rounding, and on short waves far away a hit moved by a rounding sees another slope).
 
 # agreement-begin
-#: The direct rays' unit directions: the same IEEE operations on both paths, the same numbers (measured).
+#: The direct rays' unit directions: the same IEEE operations on both
+#: paths, the same numbers (measured).
 AGREE_DIRECTION = 0.0
 #: Hit points and distances along the direct rays, relative.
 AGREE_POINT = 4e-7
 #: The unit normals of the direct hits.
 AGREE_NORMAL = 4e-6
-#: The reflected rays (after one or two bounces) and the sea's bounces' rays and cosines of incidence.
+#: The reflected rays (after one or two bounces), and the rays leaving
+#: the sea and their cosines of incidence.
 AGREE_RAY = 2e-5
 #: The unit normals of the islands where the reflected rays end.
 AGREE_FINAL_NORMAL = 8e-4
-#: The least share of a frame's compared pixels within the tolerances of points, normals and rays.
+#: The least share of a frame's compared pixels within the tolerances
+#: of points, normals and rays.
 AGREE_GEOMETRY_SHARE = 0.9999
 #: The least share of a frame's pixels whose 8-bit code is the same on both paths.
 AGREE_CODES = 0.9999

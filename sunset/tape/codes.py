@@ -357,8 +357,8 @@ def encode(scene: SceneLike, frame: Frame, seed: int = 0) -> np.ndarray:
     frame : Frame
         A frame whose reflections have been traced.
     seed : int
-        Seed of the dither (:func:`sunset.tape.codes.dither`), the same for every frame, so a
-        still scene codes the same way in every frame.
+        Seed of the dither (:func:`sunset.tape.codes.dither`), the same
+        for every frame, so a still scene codes the same way in every frame.
 
     Returns
     -------

@@ -356,7 +356,8 @@ def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     fx = np.zeros(y.shape, dtype=_F32)
     fy = np.zeros(y.shape, dtype=_F32)
     for l, m, _b, c, amps in _sea_terms(sea, s[:0], t):
-        theta = (s * _F32(l) + _F32(m)) * y + c          # b_j y + c_j with b_j = ℓ_j s + m_j
+        # θ = b_j y + c_j with b_j = ℓ_j s + m_j
+        theta = (s * _F32(l) + _F32(m)) * y + c
         cos_theta = np.cos(theta)
         # Σ_n n a_n sin nθ = sin θ · q(cos θ), q = p′ the derivative of Σ_n a_n T_n
         # (sin nθ = sin θ U_(n−1)(cos θ), n U_(n−1) = T_n′), by Horner's rule

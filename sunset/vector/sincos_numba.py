@@ -93,14 +93,19 @@ def fma32(typingctx, a, b, c):
 
 @_jit
 def parts(x):
-    """(quadrant q as int32, sin r, cos r) for a float32 x with |x| <= LIMIT: x = q·π/2 + r, |r| <= π/4."""
+    """(quadrant q as int32, sin r, cos r) for a float32 x, |x| <= LIMIT.
+
+    x = q·π/2 + r with |r| <= π/4.
+    """
     q = fma32(x, _TWO_OVER_PI, _RINT) - _RINT
     r = fma32(q, _A, x)
     r = fma32(q, _B, r)
     r = fma32(q, _C, r)
     r2 = r * r
-    c = fma32(fma32(fma32(fma32(fma32(_C10, r2, _C8), r2, _C6), r2, _C4), r2, _C2), r2, _ONE)
-    s = fma32(fma32(fma32(fma32(_S9, r2, _S7), r2, _S5), r2, _S3), r2 * r, r)
+    c = fma32(fma32(fma32(_C10, r2, _C8), r2, _C6), r2, _C4)
+    c = fma32(fma32(c, r2, _C2), r2, _ONE)
+    s = fma32(fma32(fma32(_S9, r2, _S7), r2, _S5), r2, _S3)
+    s = fma32(s, r2 * r, r)
     return np.int32(q), s, c
 
 
