@@ -422,8 +422,7 @@ def _cmd_info(args) -> None:
     from .provenance import environment, info_text
     from .tape.cycle import frame_workers, usable_cpus
 
-    env = environment()
-    env["usable cpus"] = str(usable_cpus())
+    env = {**environment(), "usable cpus": str(usable_cpus())}
     env["frame workers"] = f"{frame_workers(frames=2**31)} (--jobs, else SUNSET_WORKERS, else the usable cpus)"
     sys.stdout.write(info_text(env))
 
@@ -466,7 +465,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             words = list(sys.argv[1:] if argv is None else argv)
             args = build_parser().parse_args(_join_values(words))
-            check_environment()               # the thread and process counts, before Numba is imported
+            check_environment()           # thread counts, before Numba loads
             if args.command in RENDERING:     # big arrays reused, not faulted in
                 from .kernels import keep_freed_memory
                 keep_freed_memory()
@@ -489,7 +488,8 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         # the file system said no where no check foresaw it
         except OSError as exc:
-            where = f"{shown(exc.filename)}: " if getattr(exc, "filename", None) else ""
+            name = getattr(exc, "filename", None)
+            where = f"{shown(name)}: " if name else ""
             message = one_line(where + (exc.strerror or str(exc)))
             print(f"sunset: error: {message}", file=sys.stderr)
             return 2

@@ -36,8 +36,11 @@ PAPER_SIGMA = 0.25
 #: Number of codes on the tape: 8 bits per pixel.
 N_CODES = 256
 
-#: Highest deep-water Stokes wave, steepness H/λ (Schwartz 1974; Williams 1981).
-STOKES_MAX_STEEPNESS = 0.1411
+#: Highest deep-water Stokes wave, steepness H/λ (Williams 1981: 0.1410633; Schwartz 1974): no
+#: steepness above it is a wave, and the Stokes API refuses one. STOKES_MAP_STEEPNESS is the
+#: point the exact solver's auxiliary map is tuned to (a little above: its √ stays positive).
+STOKES_MAX_STEEPNESS = 0.141063
+STOKES_MAP_STEEPNESS = 0.1411
 
 #: Surface classes in Frame.surface.
 SKY = -1
@@ -209,6 +212,15 @@ STOKES_NEWTON_ITERATIONS = 40
 STOKES_TAIL_TOLERANCE = 1e-13
 STOKES_MIN_MODES = 16
 STOKES_MAX_MODES = 1024
+#: Most points of StokesWave.surface (its cost grows as points × modes: 65,536 points of a 1024-mode
+#: wave take about 1.5 s; a billion ran until killed).
+STOKES_MAX_SURFACE_POINTS = 1 << 16
+#: Largest |x| at which a series in α, ε or ω is summed (StokesSeries.partial_sum, .pade): every wave
+#: has α, ε = π H/λ and ω in [0, 1]; far beyond it the sums overflow float64.
+STOKES_SERIES_MAX_X = 1.0
+#: Most amplitudes StokesSeries.at_steepness sums (each is an exact Padé approximant of its own series:
+#: 16 of the order-80 series took about 30 s here, 80 of them would take minutes).
+STOKES_MAX_AMPLITUDES = 16
 
 # --- Stokes' series by computer (sunset/model/series.py, issue 13).
 
@@ -224,7 +236,7 @@ STOKES_COARSE_MODES = 64
 
 #: Auxiliary conformal map u = 2 arctan(L tan(q/2)) (Lushnikov, Dyachenko &
 #: Silantyev 2017) that crowds collocation points at the crest: by default
-#: L = min(1, STOKES_MAP_FACTOR * sqrt(STOKES_MAX_STEEPNESS - H/λ)).
+#: L = min(1, STOKES_MAP_FACTOR * sqrt(STOKES_MAP_STEEPNESS - H/λ)).
 STOKES_MAP_FACTOR = 1.5
 
 # --- Limits on what a scene or a command may ask for (sunset/model/camera.py,
@@ -265,6 +277,8 @@ CLOUD_MULTIPLE_SCATTERING = 0.12
 #: Most cells in one cloud layer, and the highest mean level (the top of the troposphere), metres.
 CLOUD_MAX_CELLS = 64
 CLOUD_MAX_LEVEL = 15000.0
+#: Smallest semi-axis of a cloud cell, metres (a length has a physical minimum, not only a positive one).
+CLOUD_MIN_SIZE = 1.0
 #: Code map of a scene with clouds: the cloud range (by depth below the mean level) takes
 #: codes from the islands and the sky; the track and halo keep theirs. Sums to N_CODES.
 CLOUDY_CODES_HILL = 32
@@ -281,6 +295,8 @@ POST = -3
 #: Largest radius and height (above or below the water) of a post, metres.
 POST_MAX_RADIUS = 20.0
 POST_MAX_TOP = 100.0
+#: Smallest radius, top and (unless 0) depth of a post, metres: a millimetre.
+POST_MIN_SIZE = 0.001
 #: Most posts in one scene.
 POST_MAX_COUNT = 16
 #: Light tracing of the ripples: the kernel's radius in texel heights, the most sun rays in one
@@ -309,6 +325,9 @@ MIN_EYE_HEIGHT = 0.001
 #: The picture window's edges s = x/y and ζ = z/y lie within ±MAX_WINDOW_SLOPE
 #: (about 84° from the view axis).
 MAX_WINDOW_SLOPE = 10.0
+#: Narrowest picture window, either way (s_max − s_min, zy_max − zy_min): a nanoradian; a window of
+#: 1e-300 makes the sea's lattice step denormal and its sample count overflow.
+MIN_WINDOW_SPAN = 1e-9
 
 #: Longest wave, metres (ocean swell is at most about a kilometre long).
 MAX_WAVELENGTH = 10_000.0
@@ -355,8 +374,9 @@ MAX_TEXT_CHARS = 200
 #: Largest tape header (the scene's TOML and the times), bytes.
 MAX_TAPE_HEADER_BYTES = 1 << 24
 
-#: Most frames in a film's wave cycle (``--frames``).
+#: Most frames in a film's wave cycle (``--frames``), and most times a film shows the cycle.
 MAX_CYCLE_FRAMES = 1000
+MAX_FILM_CYCLES = 100
 
 #: The work of one frame. Sea samples per pixel: the samples of the height
 #: field along every scan line divided by the pixels (the sample count

@@ -33,6 +33,8 @@ from __future__ import annotations
 import html
 import json
 
+from .errors import terminal_text  # the terminal's function lives where every error message is made
+
 __all__ = ["pov_comment", "pov_string", "html_text", "script_json", "metadata_text", "terminal_text", "visible"]
 
 
@@ -126,16 +128,3 @@ def metadata_text(text) -> str:
     result encodes as UTF-8. Idempotent: what it returns comes back unchanged.
     """
     return visible(text, lambda ch: ch.isprintable() or ch == "\n")
-
-
-def terminal_text(text) -> str:
-    """``text`` for one line of a terminal: itself when printable, else its ``repr`` (escapes shown, in quotes).
-
-    No escape sequence (colours, the cursor, the window's title), no
-    bidirectional override, no line break reaches the terminal;
-    :func:`sunset.errors.shown` (every value an error message echoes) uses it.
-    """
-    if isinstance(text, bytes):
-        text = text.decode("utf-8", "surrogateescape")
-    text = str(text)
-    return text if text.isprintable() else repr(text)

@@ -82,7 +82,11 @@ def check_writable(path: str | os.PathLike | None, suffixes: tuple[str, ...] = (
     device such as ``/dev/null``, a FIFO or a socket: replacing it by a
     rename would destroy it).
     """
-    if path is None or not str(path).strip():
+    if isinstance(path, (str, os.PathLike)) and isinstance(os.fspath(path), str):
+        pass
+    else:
+        raise SunsetError(f"the output path must be a path (text or a path object), got {shown(path)}")
+    if not str(path).strip():
         raise SunsetError("the output path is empty")
     path = Path(path)
     if suffixes and path.suffix.lower() not in suffixes:

@@ -49,17 +49,14 @@ def picture(scene: Scene | str | os.PathLike[str], t: float = 0.0, hours: float 
     ((48, 64, 3), dtype('uint8'))
     """
     from .recorder.dicomed import expose
-    from .errors import SunsetError, require_finite
+    from .errors import real_number, require_size
     from .tape.cycle import code_frame
     from .model.scene import as_scene
 
     scene = as_scene(scene)
-    require_finite("hours", hours)
+    real_number("hours", hours)
+    real_number("t", t)
     if size is not None:
-        try:
-            width, height = size
-        except (TypeError, ValueError):
-            raise SunsetError(f"size must be (width, height), got {size!r}") from None
-        scene = scene.with_size(width, height)
+        scene = scene.with_size(*require_size("size", size))
     codes = code_frame(scene, t, reflections, seed)
     return expose(scene, codes, hours)

@@ -499,8 +499,8 @@ def test_budget_predicts_every_window(zy_min, height, sigma, eye):
     zy_max = min(zy_min + height, 10.0)
     if not zy_max > zy_min:
         return
-    cam = replace(base.camera, zy_min=zy_min, zy_max=zy_max, sigma=sigma, eye_height=eye, width=64, height=64)
     try:
+        cam = replace(base.camera, zy_min=zy_min, zy_max=zy_max, sigma=sigma, eye_height=eye, width=64, height=64)
         scene = Scene(camera=cam, sun=base.sun, sea=base.sea, islands=())
         work = check_work(scene)
     except SunsetError as exc:

@@ -14,9 +14,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..constants import (MAX_EYE_HEIGHT, MAX_PIXELS, MAX_WINDOW_SLOPE, MIN_EYE_HEIGHT, PAPER_HEIGHT, PAPER_SIGMA,
-                         PAPER_WIDTH, SIGMA_MAX, SIGMA_MIN)
-from ..errors import SunsetError, require_finite, require_int_range, require_positive, require_range
+from ..constants import (MAX_EYE_HEIGHT, MAX_PIXELS, MAX_WINDOW_SLOPE, MIN_EYE_HEIGHT, MIN_WINDOW_SPAN, PAPER_HEIGHT,
+                         PAPER_SIGMA, PAPER_WIDTH, SIGMA_MAX, SIGMA_MIN)
+from ..errors import require_scalars, SunsetError, require_finite, require_int_range, require_positive, require_range
 
 
 @dataclass(frozen=True)
@@ -48,15 +48,18 @@ class Camera:
     sigma: float = PAPER_SIGMA
 
     def __post_init__(self):
+        require_scalars(self)
         require_positive("eye_height", self.eye_height)
         require_int_range("width", self.width, 1)
         require_int_range("height", self.height, 1)
         for name in ("s_min", "s_max", "zy_min", "zy_max"):
             require_range(name, getattr(self, name), -MAX_WINDOW_SLOPE, MAX_WINDOW_SLOPE)
-        if not self.s_max > self.s_min:
-            raise SunsetError(f"s_max must be greater than s_min, got {self.s_min!r} .. {self.s_max!r}")
-        if not self.zy_max > self.zy_min:
-            raise SunsetError(f"zy_max must be greater than zy_min, got {self.zy_min!r} .. {self.zy_max!r}")
+        if not self.s_max - self.s_min >= MIN_WINDOW_SPAN:
+            raise SunsetError(f"s_max must be greater than s_min by at least {MIN_WINDOW_SPAN:g}, got "
+                              f"{self.s_min!r} .. {self.s_max!r}")
+        if not self.zy_max - self.zy_min >= MIN_WINDOW_SPAN:
+            raise SunsetError(f"zy_max must be greater than zy_min by at least {MIN_WINDOW_SPAN:g}, got "
+                              f"{self.zy_min!r} .. {self.zy_max!r}")
         require_positive("sigma", self.sigma)
         if not SIGMA_MIN <= self.sigma <= SIGMA_MAX:
             raise SunsetError(f"sigma must be in {SIGMA_MIN:g}..{SIGMA_MAX:g} pixels (the sample spacing), "

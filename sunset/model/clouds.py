@@ -44,8 +44,9 @@ import numpy as np
 
 from ..constants import (CLOUD_ALBEDO, CLOUD_ATTENUATION_LENGTH, CLOUD_MAX_CELLS, CLOUD_MAX_LEVEL, EARTH_RADIUS,
                          CLOUD_MULTIPLE_SCATTERING)
-from ..constants import MAX_DISTANCE, MAX_HILL_WAVENUMBER
-from ..errors import SunsetError, require_finite, require_nonnegative, require_positive, require_range
+from ..constants import CLOUD_MIN_SIZE, MAX_DISTANCE, MAX_HILL_WAVENUMBER
+from ..errors import (require_items, require_scalars, SunsetError, require_finite, require_length, require_nonnegative, require_positive,
+                      require_range)
 
 __all__ = ["Billow", "CloudCell", "Clouds", "cloud_radiance"]
 
@@ -59,6 +60,7 @@ class Billow:
     m: float
 
     def __post_init__(self):
+        require_scalars(self)
         require_finite("amplitude", self.amplitude)
         require_range("l", self.l, -MAX_HILL_WAVENUMBER, MAX_HILL_WAVENUMBER, "rad/m")
         require_range("m", self.m, -MAX_HILL_WAVENUMBER, MAX_HILL_WAVENUMBER, "rad/m")
@@ -80,12 +82,12 @@ class CloudCell:
     billows: tuple[Billow, ...] = field(default_factory=tuple)
 
     def __post_init__(self):
-        object.__setattr__(self, "billows", tuple(self.billows))
+        require_scalars(self)
+        object.__setattr__(self, "billows", require_items("billows", self.billows, Billow))
         for name in ("x", "y"):
             require_range(name, getattr(self, name), -MAX_DISTANCE, MAX_DISTANCE, "m")
         for name in ("a", "b"):
-            require_positive(name, getattr(self, name))
-            require_range(name, getattr(self, name), 0.0, MAX_DISTANCE, "m")
+            require_length(name, getattr(self, name), CLOUD_MIN_SIZE, MAX_DISTANCE)
         for name in ("top", "bottom"):
             require_nonnegative(name, getattr(self, name))
             require_range(name, getattr(self, name), 0.0, CLOUD_MAX_LEVEL, "m")
@@ -136,7 +138,8 @@ class Clouds:
     cells: tuple[CloudCell, ...] = field(default_factory=tuple)
 
     def __post_init__(self):
-        object.__setattr__(self, "cells", tuple(self.cells))
+        require_scalars(self)
+        object.__setattr__(self, "cells", require_items("cells", self.cells, CloudCell))
         require_positive("level", self.level)
         if self.level > CLOUD_MAX_LEVEL:
             raise SunsetError(f"level must be at most {CLOUD_MAX_LEVEL:g} m (the troposphere), got {self.level!r}")

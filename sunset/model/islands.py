@@ -30,9 +30,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..constants import (MAX_COSINES, MAX_PHASE, MAX_CURVATURE, MAX_DISTANCE, MAX_HILL_WAVENUMBER, MAX_ISLAND_HEIGHT,
+from ..constants import (MAX_COSINES, MAX_PHASE, MAX_TEXT_CHARS, MAX_CURVATURE, MAX_DISTANCE, MAX_HILL_WAVENUMBER, MAX_ISLAND_HEIGHT,
                          MIN_CURVATURE, PART_BEACH, PART_CLIFF, PART_HILL)
-from ..errors import SunsetError, require_finite, require_nonnegative, require_positive, require_range
+from ..errors import (SunsetError, require_finite, require_instance, require_items, require_nonnegative, require_positive,
+                      require_range, require_scalars, require_text)
 from .waves import unit_normal
 
 
@@ -51,6 +52,7 @@ class Cosine:
     phase: float = 0.0
 
     def __post_init__(self):
+        require_scalars(self)
         require_nonnegative("amplitude", self.amplitude)
         require_range("amplitude", self.amplitude, 0.0, MAX_ISLAND_HEIGHT, "m")
         require_range("l", self.l, -MAX_HILL_WAVENUMBER, MAX_HILL_WAVENUMBER, "rad/m")
@@ -72,6 +74,7 @@ class Paraboloid:
     g: float
 
     def __post_init__(self):
+        require_scalars(self)
         require_range("height", self.height, -MAX_ISLAND_HEIGHT, MAX_ISLAND_HEIGHT, "m")
         require_positive("e", self.e)
         require_range("e", self.e, MIN_CURVATURE, MAX_CURVATURE, "1/m")
@@ -171,9 +174,11 @@ class Island:
     name: str = ""
 
     def __post_init__(self):
-        object.__setattr__(self, "cosines", tuple(self.cosines))
-        if len(self.cosines) > MAX_COSINES:
-            raise SunsetError(f"cosines must hold at most {MAX_COSINES} entries, got {len(self.cosines)}")
+        require_scalars(self)
+        require_instance("cliff", self.cliff, Paraboloid)
+        require_instance("beach", self.beach, Paraboloid)
+        object.__setattr__(self, "cosines", require_items("cosines", self.cosines, Cosine, MAX_COSINES))
+        require_text("name", self.name, MAX_TEXT_CHARS)
         require_range("x", self.x, -MAX_DISTANCE, MAX_DISTANCE, "m")
         require_finite("y", self.y)
         if not self.y > 0:

@@ -29,20 +29,52 @@ every machine.
 from __future__ import annotations
 
 import math
+import warnings
 from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
 
-from ..errors import SunsetError
+from ..errors import SunsetError, real_array, shown
 
-__all__ = ["pade_coefficients", "pade_exact", "RationalPade"]
+__all__ = ["pade_coefficients", "pade_exact", "RationalPade", "SingularPade"]
+
+#: Highest degree m + n of an approximant: the exact one costs about (m + n)³ operations on numbers
+#: of (m + n)·digits bits (0.2 s at 40 from order-80 coefficients); the series module asks for at most 400.
+MAX_PADE_DEGREE = 400
+
+
+class SingularPade(SunsetError):
+    """The float64 system of a Padé approximant is singular (:func:`pade_coefficients`)."""
 
 
 def _check_degrees(m: int, n: int, count: int) -> None:
-    if m < 0 or n < 0 or m + n > count - 1:
-        raise SunsetError(f"a Padé approximant of degrees {n}/{m} needs {m + n + 1} coefficients, got {count}")
+    for name, v in (("m", m), ("n", n)):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)) or not 0 <= v <= MAX_PADE_DEGREE:
+            raise SunsetError(f"{name}, a degree of the Padé approximant, must be a whole number in "
+                              f"0..{MAX_PADE_DEGREE}, got {shown(v)}")
+    if m + n > MAX_PADE_DEGREE:
+        raise SunsetError(f"a Padé approximant of degrees {n}/{m} is past the most, m + n = {MAX_PADE_DEGREE}")
+    if m + n > count - 1:
+        raise SunsetError(f"a Padé approximant of degrees {n}/{m} needs the {m + n + 1} coefficients of x^0 .. "
+                          f"x^{m + n}, got {count}")
+
+
+def _sequence(an) -> list:
+    """``an`` as a list (a sequence or a 1-D array of numbers), else SunsetError."""
+    if (isinstance(an, (str, bytes, bytearray, dict, set)) or not hasattr(an, "__len__")
+            or (isinstance(an, np.ndarray) and an.ndim != 1)):
+        raise SunsetError(f"the coefficients must be a sequence of numbers, got {shown(an)}")
+    values = list(an)
+    for k, v in enumerate(values):
+        if isinstance(v, np.ndarray) and v.ndim == 0:
+            values[k] = v = v.item()
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, Fraction, np.integer, np.floating)):
+            raise SunsetError(f"coefficient {k} must be a number (an int, a Fraction or a float), got {shown(v)}")
+        if isinstance(v, (float, np.floating)) and not math.isfinite(v):
+            raise SunsetError(f"coefficient {k} must be finite, got {shown(v)}")
+    return values
 
 
 def pade_coefficients(an, m: int, n: int) -> tuple[np.poly1d, np.poly1d]:
@@ -57,16 +89,31 @@ def pade_coefficients(an, m: int, n: int) -> tuple[np.poly1d, np.poly1d]:
     Returns
     -------
     p, q : numpy.poly1d
+
+    Raises
+    ------
+    SunsetError
+        For coefficients that are not finite numbers, degrees that are not
+        whole numbers >= 0 or that need more coefficients than given, and
+        (:class:`SingularPade`) a singular system.
     """
-    an = np.asarray(an, dtype=float)
-    N = m + n
+    an = real_array("coefficients", _sequence(an))
+    if not np.all(np.isfinite(an)):
+        raise SunsetError("the coefficients must be finite in float64")
     _check_degrees(m, n, len(an))
+    N = m + n
     an = an[: N + 1]
     rows = np.zeros((N + 1, m))
     for row in range(1, N + 1):
         k = min(row, m)
         rows[row, :k] = -an[row - k:row][::-1]
-    pq = scipy.linalg.solve(np.hstack((np.eye(N + 1, n + 1), rows)), an)
+    try:
+        with warnings.catch_warnings():      # at high order the system is badly conditioned: said above
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            pq = scipy.linalg.solve(np.hstack((np.eye(N + 1, n + 1), rows)), an)
+    except np.linalg.LinAlgError:
+        raise SingularPade(f"the float64 system of the {n}/{m} Padé approximant is singular: lower m "
+                           f"(pade_exact lowers it itself)") from None
     return np.poly1d(pq[: n + 1][::-1]), np.poly1d(np.r_[1.0, pq[n + 1:]][::-1])
 
 
@@ -82,7 +129,8 @@ class RationalPade(NamedTuple):
 
     def __call__(self, t) -> Fraction:
         """p(t)/q(t), exactly, for a rational t (an int, a Fraction or a float, taken as the number it is)."""
-        t = Fraction(t)
+        values = _sequence([t])
+        t = Fraction(values[0])
         num, den = _homogeneous(self.P, t), _homogeneous(self.Q, t)
         if den == 0:
             raise SunsetError(f"the Padé approximant has a pole at t = {t}")
@@ -113,6 +161,7 @@ def pade_exact(an, m: int, n: int) -> RationalPade:
     RationalPade
         Integer coefficients; the system is verified exactly before returning.
     """
+    an = _sequence(an)
     _check_degrees(m, n, len(an))
     a = [Fraction(v) for v in an[: m + n + 1]]
     L = math.lcm(*(v.denominator for v in a))

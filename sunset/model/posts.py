@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import MAX_DISTANCE, POST_MAX_RADIUS, POST_MAX_TOP
-from ..errors import SunsetError, require_finite, require_nonnegative, require_positive, require_range
+from ..constants import MAX_DISTANCE, POST_MAX_RADIUS, POST_MAX_TOP, POST_MIN_SIZE
+from ..errors import require_scalars, SunsetError, require_finite, require_length, require_range
 
 __all__ = ["Post"]
 
@@ -37,18 +37,12 @@ class Post:
     albedo: float = 0.35
 
     def __post_init__(self):
+        require_scalars(self)
         require_range("x", self.x, -MAX_DISTANCE, MAX_DISTANCE, "m")
         require_range("y", self.y, -MAX_DISTANCE, MAX_DISTANCE, "m")
-        require_positive("radius", self.radius)
-        if self.radius > POST_MAX_RADIUS:
-            raise SunsetError(f"radius must be at most {POST_MAX_RADIUS:g} m (a post, not an island), "
-                              f"got {self.radius!r}")
-        require_positive("top", self.top)
-        if self.top > POST_MAX_TOP:
-            raise SunsetError(f"top must be at most {POST_MAX_TOP:g} m, got {self.top!r}")
-        require_nonnegative("depth", self.depth)
-        if self.depth > POST_MAX_TOP:
-            raise SunsetError(f"depth must be at most {POST_MAX_TOP:g} m, got {self.depth!r}")
+        require_length("radius", self.radius, POST_MIN_SIZE, POST_MAX_RADIUS)   # a post, not an island
+        require_length("top", self.top, POST_MIN_SIZE, POST_MAX_TOP)
+        require_length("depth", self.depth, POST_MIN_SIZE, POST_MAX_TOP, zero=True)
         require_finite("albedo", self.albedo)
         if not 0.0 <= self.albedo <= 1.0:
             raise SunsetError(f"albedo must lie in [0, 1], got {self.albedo!r}")

@@ -36,7 +36,7 @@ from .camera import Camera
 from .clouds import Billow, CloudCell, Clouds
 from .posts import Post
 from ..constants import CLOUD_MAX_CELLS, POST_MAX_COUNT
-from ..errors import SunsetError, shown
+from ..errors import SunsetError, require_instance, require_items, require_text, shown
 from .islands import Cosine, Island, Paraboloid
 from .sun import Sun
 from .waves import Sea, WaveTrain
@@ -60,20 +60,20 @@ class Scene:
 
     def __post_init__(self):
         check_text("title", self.title)
-        object.__setattr__(self, "islands", tuple(self.islands))
-        if len(self.islands) > MAX_ISLANDS:
-            raise SunsetError(f"islands must hold at most {MAX_ISLANDS} entries, got {len(self.islands)}")
+        for name, kind in (("camera", Camera), ("sun", Sun), ("sea", Sea)):
+            require_instance(name, getattr(self, name), kind)
+        if self.clouds is not None:
+            require_instance("clouds", self.clouds, Clouds)
+        object.__setattr__(self, "islands", require_items("islands", self.islands, Island, MAX_ISLANDS))
         for k, island in enumerate(self.islands):
             check_text(f"islands[{k}].name", island.name)
+        object.__setattr__(self, "posts", require_items("posts", self.posts, Post, POST_MAX_COUNT))
         h = self.camera.eye_height
         for k, island in enumerate(self.islands):
             ground = float(island.height(0.0, 0.0))
             if ground >= h:
                 raise SunsetError(f"islands[{k}] puts the eye inside it: its surface at the eye (x = y = 0) is "
                                   f"{ground:.3g} m above the sea, the eye only {h:g} m")
-        object.__setattr__(self, "posts", tuple(self.posts))
-        if len(self.posts) > POST_MAX_COUNT:
-            raise SunsetError(f"posts: at most {POST_MAX_COUNT} posts, got {len(self.posts)}")
         if self.clouds is not None and self.clouds.base <= h:
             raise SunsetError(f"clouds: the eye ({h:g} m) must be below the cloud base "
                               f"({self.clouds.base:g} m: the level less the deepest cloud)")
@@ -135,24 +135,12 @@ class Scene:
 
 
 def check_text(name: str, value) -> None:
-    """Raise :class:`SunsetError` unless ``value`` is a scene's text: a str of at most MAX_TEXT_CHARS printable characters.
+    """Raise :class:`SunsetError` unless ``value`` is a scene's text: at most MAX_TEXT_CHARS printable characters.
 
-    Printable as Python's ``str.isprintable``: letters, marks, digits,
-    punctuation, symbols and the space, in any script; no control
-    character (line breaks, tabs, escapes, NUL), no format character
-    (bidirectional overrides, zero-width joiners), no surrogate (a byte that
-    was not UTF-8), no private-use or unassigned code point, no line or
-    paragraph separator. Every format the text reaches escapes it again
-    (:mod:`sunset.escape`).
+    :func:`sunset.errors.require_text` says which characters; every format
+    the text reaches escapes it again (:mod:`sunset.escape`).
     """
-    if not isinstance(value, str):
-        raise SunsetError(f"{name} must be text, got {shown(value)}")
-    if len(value) > MAX_TEXT_CHARS:
-        raise SunsetError(f"{name} must be at most {MAX_TEXT_CHARS} characters, got {len(value)}")
-    bad = next((ch for ch in value if not ch.isprintable()), None)
-    if bad is not None:
-        raise SunsetError(f"{name} must hold printable characters only (no line break, control or format character), "
-                          f"got {shown(bad)} (U+{ord(bad):04X}) at {value.index(bad)}")
+    require_text(name, value, MAX_TEXT_CHARS)
 
 
 def scene_names() -> list[str]:
@@ -277,10 +265,10 @@ def as_scene(scene: SceneLike) -> Scene:
     if isinstance(scene, (str, os.PathLike)):
         path = Path(scene)
         if not path.exists() and isinstance(scene, str) and "/" not in scene and not scene.endswith(".toml"):
-            raise SunsetError(f"no scene named {scene!r} in the package and no such file "
+            raise SunsetError(f"no scene named {shown(repr(scene))} in the package and no such file "
                               f"(packaged scenes: {', '.join(scene_names())})")
         return Scene.from_toml(path)
-    raise SunsetError(f"expected a Scene, the name of a packaged scene or a scene file, got {scene!r}")
+    raise SunsetError(f"expected a Scene, the name of a packaged scene or a scene file, got {shown(scene)}")
 
 
 def default_scene() -> Scene:

@@ -17,17 +17,17 @@ from __future__ import annotations
 
 import functools
 import math
-import warnings
 from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
-import scipy.linalg
 from scipy.optimize import minimize_scalar
 
-from ..constants import STOKES_MAX_STEEPNESS, STOKES_SERIES_MAX_ORDER_EXACT, STOKES_SERIES_MAX_ORDER_FLOAT
-from ..errors import SunsetError, require_finite, require_int_range
-from .pade import RationalPade, pade_coefficients, pade_exact
+from ..constants import (STOKES_MAX_STEEPNESS, STOKES_SERIES_MAX_ORDER_EXACT, STOKES_SERIES_MAX_ORDER_FLOAT,
+                         STOKES_MAX_AMPLITUDES, STOKES_SERIES_MAX_X)
+from ..errors import SunsetError, real_array, real_number, require_int_range, shown
+from .pade import RationalPade, SingularPade, pade_coefficients, pade_exact
+from .pade import _sequence as _pade_sequence
 from .series_recurrence import Ring, compose, conformal_rows, eulerian_amplitude, inverse, join, modes, mul, \
     pair_powers, revert, sqrt
 
@@ -66,7 +66,7 @@ def _float_pade(g: np.ndarray, N: int) -> tuple[np.poly1d, np.poly1d]:
     while True:
         try:
             return pade_coefficients(g, m, N - m)
-        except np.linalg.LinAlgError:
+        except SingularPade:
             if m == 0:          # pragma: no cover - the system of m = 0 is the identity
                 raise
             m -= 1
@@ -135,7 +135,7 @@ class StokesSeries:
             if not 1 <= n <= self.order:
                 raise SunsetError(f"amplitude n must be in 1..{self.order} (the order), got {n}")
             return self._amplitude_eps(n)
-        raise SunsetError(f"unknown quantity {quantity!r}; expected one of {', '.join(QUANTITIES)} or a1, a2, …")
+        raise SunsetError(f"unknown quantity {shown(repr(quantity))}; expected one of {', '.join(QUANTITIES)} or a1, a2, …")
 
     def _powers_of(self, parameter: str) -> list[tuple[np.ndarray, int]]:
         """Powers of ε(x), for x = α or ω (computed once)."""
@@ -145,6 +145,7 @@ class StokesSeries:
         return self._powers[parameter]
 
     def _series(self, quantity: str, parameter: str) -> np.ndarray:
+        _check_names(quantity, parameter)
         key = (quantity, parameter)
         if key not in self._converted:
             self._converted[key] = self._convert(quantity, parameter)
@@ -152,7 +153,7 @@ class StokesSeries:
 
     def _convert(self, quantity: str, parameter: str) -> np.ndarray:
         if parameter not in PARAMETERS:
-            raise SunsetError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
+            raise SunsetError(f"parameter must be one of {', '.join(PARAMETERS)}, got {shown(parameter)}")
         eps = self._in_eps(quantity)
         if parameter == "epsilon":
             return eps
@@ -211,8 +212,9 @@ class StokesSeries:
     # ------------------------------------------------------------------ summing the series
     def partial_sum(self, quantity: str, x, parameter: str = "epsilon", terms: int | None = None):
         """Σ_{p<=terms} b_p x^p of the series of ``quantity`` in ``parameter`` (any shape of x)."""
+        X = _x(x)
         b = self._float(quantity, parameter, terms)
-        return np.polynomial.polynomial.polyval(np.asarray(x, dtype=float), b)
+        return np.polynomial.polynomial.polyval(X, b)
 
     def _float(self, quantity: str, parameter: str, terms: int | None) -> np.ndarray:
         terms = self.order if terms is None else terms
@@ -220,6 +222,7 @@ class StokesSeries:
         return self._floats(quantity, parameter)[: terms + 1]
 
     def _floats(self, quantity: str, parameter: str) -> np.ndarray:
+        _check_names(quantity, parameter)
         key = (quantity, parameter, "float")
         if key not in self._converted:
             self._converted[key] = np.array([float(v) for v in self._series(quantity, parameter)])
@@ -239,29 +242,36 @@ class StokesSeries:
         where it is singular, the denominator's degree is lowered, as the
         exact approximant's is.
         """
-        require_finite("x", x)
-        X = np.asarray(x, dtype=float)
+        X = _x(x)
         if self.exact:
             pq, shift, stride = self._exact_pade(quantity, parameter, terms)
             exact = [Fraction(v) ** shift * pq(Fraction(v) ** stride)
                      for v in X.ravel().tolist()]
-            return np.array([float(v) for v in exact]).reshape(X.shape)[()]
+            try:
+                return np.array([float(v) for v in exact]).reshape(X.shape)[()]
+            except OverflowError:
+                raise SunsetError(f"the Padé approximant of {quantity} is beyond "
+                                  "float64 at some x (next to a pole)") from None
         b = self._float(quantity, parameter, terms)
         shift, stride = _symmetry(b)
         g = b[shift::stride]
         scale = _PADE_SCALE[parameter] ** stride
         g = g * scale ** np.arange(len(g))
         N = len(g) - 1
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            p, q = _float_pade(g, N)
+        p, q = _float_pade(g, N)
         t = X**stride / scale
-        return X**shift * p(t) / q(t)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            out = X**shift * p(t) / q(t)
+        if not np.all(np.isfinite(out)):
+            raise SunsetError(f"the float64 Padé approximant of {quantity} is not "
+                              "finite at some x (a pole, or beyond float64)")
+        return out
 
     def _exact_pade(self, quantity: str, parameter: str, terms: int | None) -> tuple[RationalPade, int, int]:
         """The exact diagonal approximant (in x^stride, times x^shift), computed once per (quantity, parameter, terms)."""
         terms = self.order if terms is None else terms
         require_int_range("terms", terms, 1, self.order)
+        _check_names(quantity, parameter)
         key = (quantity, parameter, terms)
         if key not in self._pades:
             b = self._series(quantity, parameter)[: terms + 1]
@@ -271,14 +281,20 @@ class StokesSeries:
         return self._pades[key]
 
     def at_steepness(self, steepness: float, n_amplitudes: int = 4, terms: int | None = None) -> SeriesWave:
-        """The wave of steepness H/λ summed from the series by Padé approximants in ε = π H/λ."""
-        require_finite("steepness", steepness)
-        if not 0.0 <= float(steepness) <= STOKES_MAX_STEEPNESS:
-            raise SunsetError(f"steepness must be in 0..{STOKES_MAX_STEEPNESS}, got {steepness!r}")
-        require_int_range("n_amplitudes", n_amplitudes, 1, self.order)
-        e = math.pi * float(steepness)
+        """The wave of steepness H/λ summed from the series by Padé approximants in ε = π H/λ.
+
+        ``steepness`` in 0..STOKES_MAX_STEEPNESS (the highest wave's 0.141063);
+        ``n_amplitudes`` at most the order and STOKES_MAX_AMPLITUDES (16: each is an exact Padé
+        approximant; 16 of the order-80 series take about half a minute).
+        """
+        s = real_number("steepness", steepness)
+        if not 0.0 <= s <= STOKES_MAX_STEEPNESS:
+            raise SunsetError(f"steepness must be in 0..{STOKES_MAX_STEEPNESS} (H/λ of the highest wave, "
+                              f"Williams 1981), got {steepness!r}")
+        require_int_range("n_amplitudes", n_amplitudes, 1, min(self.order, STOKES_MAX_AMPLITUDES))
+        e = math.pi * s
         amps = np.array([float(self.pade(f"a{n}", e, "epsilon", terms)) for n in range(1, n_amplitudes + 1)])
-        return SeriesWave(float(steepness), float(self.pade("speed", e, "epsilon", terms)), amps,
+        return SeriesWave(s, float(self.pade("speed", e, "epsilon", terms)), amps,
                           float(self.pade("crest_curvature", e, "epsilon", terms)))
 
     def highest_wave(self, terms: int | None = None) -> float:
@@ -337,8 +353,29 @@ def stokes_series(order: int, exact: bool = True) -> StokesSeries:
 
 
 def _check_order(order, exact) -> None:
+    if not isinstance(exact, (bool, np.bool_)):        # 'no' is not False
+        raise SunsetError(f"exact must be True or False, got {shown(exact)}")
     limit = STOKES_SERIES_MAX_ORDER_EXACT if exact else STOKES_SERIES_MAX_ORDER_FLOAT
     require_int_range("order", order, 1, limit)
+
+
+def _check_names(quantity, parameter) -> None:
+    """Raise SunsetError unless ``quantity`` is text and ``parameter`` one of PARAMETERS (before any lookup)."""
+    if not isinstance(quantity, str):
+        raise SunsetError(f"quantity must be text ({', '.join(QUANTITIES)} or a1, a2, …), got {shown(quantity)}")
+    if not isinstance(parameter, str) or parameter not in PARAMETERS:
+        raise SunsetError(f"parameter must be one of {', '.join(PARAMETERS)}, got {shown(parameter)}")
+
+
+def _x(x) -> np.ndarray:
+    """The point(s) at which a series is summed: finite numbers with |x| <= STOKES_SERIES_MAX_X, any shape."""
+    X = real_array("x", x)
+    if not np.all(np.isfinite(X)):
+        raise SunsetError(f"x must be a finite number, got {shown(x)}")
+    if not np.all(np.abs(X) <= STOKES_SERIES_MAX_X):
+        raise SunsetError(f"x must lie in [-{STOKES_SERIES_MAX_X:g}, {STOKES_SERIES_MAX_X:g}] (every wave's α, ε and "
+                          f"ω do), got {shown(x)}")
+    return X
 
 
 # --------------------------------------------------------------------------- the ratio test
@@ -371,16 +408,29 @@ def domb_sykes(coefficients, stride: int = 1, shift: int = 0, fit_last: int = 10
     fit_last : int
         Number of ratios, the last ones, in the fit.
     """
-    b = np.array([float(v) for v in coefficients])[shift::stride]
-    require_int_range("fit_last", fit_last, 2, max(2, len(b) - 1))
+    values = _pade_sequence(coefficients)
+    require_int_range("stride", stride, 1, max(1, len(values)))
+    require_int_range("shift", shift, 0, len(values))
+    require_int_range("fit_last", fit_last, 2, max(2, len(values)))
+    b = real_array("coefficients", values)[shift::stride]
+    if not np.all(np.isfinite(b)):
+        raise SunsetError("domb_sykes: the coefficients must be finite in float64")
+    if len(b) < fit_last + 1:
+        raise SunsetError(f"domb_sykes: fitting the last {fit_last} ratios needs {fit_last + 1} coefficients after "
+                          f"stride {stride} and shift {shift}, got {len(b)}")
     k = np.arange(1, len(b))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         ratios = b[1:] / b[:-1]
     sel = slice(len(k) - fit_last, len(k))
-    if not np.all(np.isfinite(ratios[sel])):
-        raise SunsetError("domb_sykes: a coefficient in the fitted range is zero; choose stride and shift "
-                          "so that only the nonzero coefficients are kept")
-    slope, intercept = np.polyfit(1.0 / k[sel], ratios[sel], 1)
+    if not np.all(np.isfinite(ratios[sel])) or not np.all(np.isfinite(1.0 / k[sel])):
+        raise SunsetError("domb_sykes: a ratio in the fitted range is not finite (a coefficient is zero, or the "
+                          "ratio is beyond float64); choose stride and shift so that only nonzero coefficients "
+                          "are kept")
+    with np.errstate(over="ignore", invalid="ignore"):
+        slope, intercept = np.polyfit(1.0 / k[sel], ratios[sel], 1)
+    if not (np.isfinite(slope) and np.isfinite(intercept)) or intercept == 0.0:
+        raise SunsetError("domb_sykes: the ratios fit no line with a finite, nonzero intercept (no radius of "
+                          "convergence to read off)")
     t0 = 1.0 / intercept
     radius = math.copysign(abs(t0) ** (1.0 / stride), t0)
     return DombSykes(k, ratios, radius, float(-slope / intercept - 1.0), int(k[sel][0]), float(intercept),

@@ -48,13 +48,15 @@ from ..constants import (
     STOKES_CONTINUATION_STEP,
     STOKES_MAP_FACTOR,
     STOKES_MAX_MODES,
+    STOKES_MAP_STEEPNESS,
     STOKES_MAX_STEEPNESS,
+    STOKES_MAX_SURFACE_POINTS,
     STOKES_MIN_MODES,
     STOKES_NEWTON_ITERATIONS,
     STOKES_NEWTON_TOLERANCE,
     STOKES_TAIL_TOLERANCE,
 )
-from ..errors import SunsetError, require_finite, require_int_range, require_nonnegative
+from ..errors import SunsetError, real_number, require_finite, require_int_range
 
 __all__ = ["StokesWave", "StokesSurface", "solve_stokes"]
 
@@ -284,13 +286,13 @@ class StokesWave:
         return self._series(q)[1].reshape(X.shape)
 
     def surface(self, n_points: int = 513) -> StokesSurface:
-        """The exact surface at ``n_points`` values of q spread over −π..π.
+        """The exact surface at ``n_points`` values of q spread over −π..π (3 to STOKES_MAX_SURFACE_POINTS).
 
         Points crowd at the crest (where the auxiliary map L < 1 puts them).
         Bernoulli's law says ½ speed² + elevation = :attr:`bernoulli` at every
         point: an independent check, since the solver never evaluates it.
         """
-        require_int_range("n_points", n_points, 3)
+        require_int_range("n_points", n_points, 3, STOKES_MAX_SURFACE_POINTS)
         q = np.linspace(-np.pi, np.pi, n_points)
         x, y, xq, yq = self._series(q)
         _, du = _map(q, self.map_parameter)
@@ -308,7 +310,7 @@ class StokesWave:
 
 
 def _default_map(steepness: float) -> float:
-    gap = max(STOKES_MAX_STEEPNESS - steepness, 0.0)
+    gap = max(STOKES_MAP_STEEPNESS - steepness, 0.0)
     return float(min(1.0, max(0.02, STOKES_MAP_FACTOR * math.sqrt(gap))))
 
 
@@ -324,12 +326,15 @@ def solve_stokes(steepness: float, n_modes: int | None = None, map_parameter: fl
     Parameters
     ----------
     steepness : float
-        H/λ, from 0 up to :data:`~sunset.constants.STOKES_MAX_STEEPNESS`
-        (0.1411, the highest wave). Converged to 1e-12 or better up to 0.135;
-        very close to the highest wave the solver may give up, with an error.
+        H/λ, a number (not text) from 0 up to :data:`~sunset.constants.STOKES_MAX_STEEPNESS`
+        (0.141063, the highest wave). Converged to 1e-12 or better up to 0.135;
+        very close to the highest wave the solver may give up, with an error
+        (after some seconds: it tries up to 1024 modes).
     n_modes : int, optional
-        Collocation points minus one (>= 16). Default: chosen by steepness and
-        doubled until the spectrum's tail is below 1e-13 (at most 1024).
+        Collocation points minus one, 16 to :data:`~sunset.constants.STOKES_MAX_MODES`
+        (1024: about 7 s; the cost grows as the cube, 2048 took 25 s and 4096 minutes,
+        and are refused). Default: chosen by steepness and doubled until the
+        spectrum's tail is below 1e-13 (at most 1024).
     map_parameter : float, optional
         L in (0, 1] of the auxiliary map; default
         min(1, 1.5 √(0.1411 − H/λ)), which crowds points at sharp crests.
@@ -345,19 +350,17 @@ def solve_stokes(steepness: float, n_modes: int | None = None, map_parameter: fl
         bad ``n_modes`` or ``map_parameter``, or when the solver cannot
         converge (very close to the highest wave).
     """
-    require_nonnegative("steepness", steepness)
-    s = float(steepness)
-    if s > STOKES_MAX_STEEPNESS:
-        raise SunsetError(f"steepness must be at most {STOKES_MAX_STEEPNESS} (H/λ of the highest "
-                          f"Stokes wave on deep water), got {steepness!r}")
+    s = real_number("steepness", steepness)
+    if not 0.0 <= s <= STOKES_MAX_STEEPNESS:
+        raise SunsetError(f"steepness must be in 0..{STOKES_MAX_STEEPNESS} (H/λ of the highest Stokes wave on "
+                          f"deep water, Williams 1981), got {steepness!r}")
     if n_modes is not None:
-        require_int_range("n_modes", n_modes, STOKES_MIN_MODES, 4 * STOKES_MAX_MODES)
+        require_int_range("n_modes", n_modes, STOKES_MIN_MODES, STOKES_MAX_MODES)
         n_modes = int(n_modes)
     if map_parameter is not None:
-        require_finite("map_parameter", map_parameter)
-        if not 0.0 < float(map_parameter) <= 1.0:
+        map_parameter = real_number("map_parameter", map_parameter)
+        if not 0.0 < map_parameter <= 1.0:
             raise SunsetError(f"map_parameter must be in (0, 1], got {map_parameter!r}")
-        map_parameter = float(map_parameter)
     return _solve(s, n_modes, map_parameter)
 
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..constants import (MAX_DEGREES, MAX_HOURS_FROM_SUNSET, MIN_SUN_RADIUS, RADIANS_PER_HOUR,
                          SUN_PAPER_RADIUS_DEGREES)
-from ..errors import SunsetError, require_finite, require_positive, require_range, shown
+from ..errors import require_scalars, SunsetError, require_finite, require_positive, require_range, shown
 
 
 def require_hours(name: str, hours) -> None:
@@ -56,6 +56,7 @@ class Sun:
     radius: float = SUN_PAPER_RADIUS_DEGREES
 
     def __post_init__(self):
+        require_scalars(self)
         require_range("azimuth", self.azimuth, -MAX_DEGREES, MAX_DEGREES, "degrees")
         require_finite("tilt", self.tilt)
         if not 0.0 < self.tilt <= 90.0:

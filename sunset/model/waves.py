@@ -35,8 +35,8 @@ from fractions import Fraction
 import numpy as np
 
 from ..constants import GRAVITY, MAX_DEGREES, MAX_PHASE, MAX_TRAINS, MAX_WAVE_SLOPE, MAX_WAVELENGTH, MIN_WAVELENGTH
-from ..errors import (SunsetError, require_finite, require_int_range, require_nonnegative, require_positive,
-                      require_range)
+from ..errors import (SunsetError, require_finite, require_int_range, require_items, require_nonnegative,
+                      require_positive, require_range, require_scalars, shown)
 from .stokes import stokes_coefficients
 from .windsea import NOT_YET_RENDERED, WindSea
 
@@ -76,6 +76,7 @@ class WaveTrain:
     gravity: float = GRAVITY
 
     def __post_init__(self):
+        require_scalars(self)
         require_nonnegative("amplitude", self.amplitude)
         require_positive("wavelength", self.wavelength)
         if self.wavelength < MIN_WAVELENGTH:
@@ -204,18 +205,17 @@ class Sea:
     wind: WindSea | None = None
 
     def __post_init__(self):
+        require_scalars(self)
         require_positive("gravity", self.gravity)
         if self.wind is not None:
             if not isinstance(self.wind, WindSea):
-                raise SunsetError(f"wind must be a WindSea, got {self.wind!r}")
+                raise SunsetError(f"wind must be a WindSea, got {shown(self.wind)}")
             if self.trains:
                 raise SunsetError("wind: give the sea as trains or as a wind, not both")
             if self.wind.gravity != self.gravity:
                 raise SunsetError(f"gravity must be standard gravity ({GRAVITY} m/s²) for a wind sea (its spectra "
                                   f"are fits to Earth's oceans), got {self.gravity!r}")
-        trains = tuple(self.trains)
-        if len(trains) > MAX_TRAINS:
-            raise SunsetError(f"trains must hold at most {MAX_TRAINS} entries, got {len(trains)}")
+        trains = require_items("trains", self.trains, WaveTrain, MAX_TRAINS)
         for i, t in enumerate(trains):
             if not isinstance(t, WaveTrain):
                 raise SunsetError(f"trains[{i}] must be a WaveTrain, got {t!r}")

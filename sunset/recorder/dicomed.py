@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from ..constants import SUN_SUPERSAMPLE
-from ..errors import SunsetError, require_finite
+from ..errors import SunsetError, real_number, shown
 from ..kernels import row_strips, run_strips, twin
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
 from ..model.scene import SceneLike, as_scene
@@ -145,8 +145,9 @@ def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
         sRGB image.
     """
     scene = as_scene(scene)
-    require_finite("hours", hours)
-    codes = np.asarray(codes)
+    real_number("hours", hours)
+    if not isinstance(codes, np.ndarray):
+        raise SunsetError(f"codes must be a uint8 array, got {shown(codes)}")
     cam = scene.camera
     if codes.dtype != np.uint8:
         raise SunsetError(f"codes must be uint8, got {codes.dtype}")

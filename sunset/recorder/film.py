@@ -25,8 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_CYCLE_FRAMES, MAX_FPS, MAX_TAPE_BYTES
-from ..errors import SunsetError, require_int_range
+from ..constants import (FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_CYCLE_FRAMES, MAX_FILM_CYCLES, MAX_FPS,
+                         MAX_TAPE_BYTES)
+from ..errors import SunsetError, real_number, require_bool, require_int_range
 from ..io import all_or_nothing
 from ..tape.tapefile import Tape, write_tape
 
@@ -273,9 +274,9 @@ def _check_film(path_mp4, path_preview, from_hours: float, to_hours: float, cycl
     """Every check of :func:`write_film`'s arguments, made before any work; the checked paths."""
     from ..io import check_writable
 
-    require_hours("from_hours", from_hours)
-    require_hours("to_hours", to_hours)
-    require_int_range("cycles", cycles, 1)
+    require_hours("from_hours", real_number("from_hours", from_hours))
+    require_hours("to_hours", real_number("to_hours", to_hours))
+    require_int_range("cycles", cycles, 1, MAX_FILM_CYCLES)
     require_int_range("fps", fps, 1, MAX_FPS)
     require_int_range("preview_width", preview_width, 8)
     path_mp4 = check_writable(path_mp4, FILM_SUFFIXES)
@@ -451,6 +452,7 @@ def make_film(scene: SceneLike, path_mp4: str | os.PathLike, path_preview: str |
 
     scene = as_scene(scene)
     _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps)
+    require_bool("progress", progress)
     if tape_path is not None:
         check_writable(tape_path)
     check_distinct({"the film": path_mp4, "the preview": path_preview, "the tape": tape_path})

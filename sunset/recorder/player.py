@@ -63,13 +63,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, SUN_SUPERSAMPLE
-from ..errors import SunsetError, require_finite, require_int_range
+from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_CYCLE_FRAMES, SUN_SUPERSAMPLE
+from ..errors import (SunsetError, real_array, real_number, require_bool, require_instance,
+                      require_int_range, require_size, shown)
 from ..escape import html_text, script_json
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
+from ..model.scene import as_scene
 from ..model.sun import require_hours
 from ..tape.codes import CODE_MAP, cloud_code_depths, code_map, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations
 from .colour_tables import sun_colour, tables
+from .playerdoc import check_data, compose, data_tables, decode_codes
 from .dicomed import sun_coverage
 from .film import FILM_CYCLES, _bar, cycle_times, render_cycle
 
@@ -86,6 +89,8 @@ PLAYER_LONG_SIDE = 512
 
 #: Largest step of the hours grid: 1.5 minutes, 0.375° of the sun's course, half its (enlarged) radius.
 PLAYER_HOURS_STEP = 0.025
+#: Most hours in a grid: the whole day (±12 h) at a fiftieth of PLAYER_HOURS_STEP.
+MAX_GRID_HOURS = 50_000
 
 #: What the player's data may weigh in a page of the book, bytes (its JSON, PNG frames as base64).
 PLAYER_MAX_BYTES = 8_000_000
@@ -106,15 +111,17 @@ def hours_grid(from_hours: float, to_hours: float, step: float = PLAYER_HOURS_ST
     The fewest points whose spacing is at most ``step``: ``from_hours`` first
     and ``to_hours`` last, exactly; one point when they are equal.
     """
-    require_finite("from_hours", from_hours)
-    require_finite("to_hours", to_hours)
-    require_finite("step", step)
+    a, b = real_number("from_hours", from_hours), real_number("to_hours", to_hours)
+    require_hours("from_hours", a)
+    require_hours("to_hours", b)
+    step = real_number("step", step)
     if not step > 0:
         raise SunsetError(f"step must be positive, got {step!r}")
-    a, b = float(from_hours), float(to_hours)
     if a == b:
         return np.array([a])
     count = int(math.ceil(abs(b - a) / step - 1e-9)) + 1
+    if count > MAX_GRID_HOURS:
+        raise SunsetError(f"step: {step:g} h makes {count:,} tables from {a:g} to {b:g} h (at most {MAX_GRID_HOURS:,})")
     grid = np.linspace(a, b, count)
     grid[0], grid[-1] = a, b
     return grid
@@ -122,13 +129,14 @@ def hours_grid(from_hours: float, to_hours: float, step: float = PLAYER_HOURS_ST
 
 def nearest_hour(grid, hours: float) -> int:
     """Index of the grid hour nearest ``hours`` (the first of two equally near)."""
-    g = np.asarray(grid, dtype=float)
-    return int(np.argmin(np.abs(g - float(hours))))
+    g = _grid(grid)
+    return int(np.argmin(np.abs(g - real_number("hours", hours))))
 
 
 def player_size(scene, long_side: int = PLAYER_LONG_SIDE) -> tuple[int, int]:
     """The scene's picture scaled so that its longer side is ``long_side`` pixels: (width, height)."""
-    require_int_range("long_side", long_side, 1)
+    scene = as_scene(scene)
+    require_int_range("long_side", long_side, 1, 1 << 16)
     w, h = scene.camera.width, scene.camera.height
     k = long_side / max(w, h)
     return max(1, round(w * k)), max(1, round(h * k))
@@ -137,7 +145,10 @@ def player_size(scene, long_side: int = PLAYER_LONG_SIDE) -> tuple[int, int]:
 # --------------------------------------------------------------------------- exact rounding as lookups
 def quantise(lin) -> np.ndarray:
     """Linear value → the sRGB byte :func:`sunset.expose` writes (encode, round, clip)."""
-    return to_uint8(srgb_encode(np.asarray(lin, dtype=np.float64)))
+    lin = real_array("lin", lin)
+    if not np.all(np.isfinite(lin)):
+        raise SunsetError(f"lin must be finite, got {shown(lin)}")
+    return to_uint8(srgb_encode(lin))
 
 
 def encode_thresholds() -> np.ndarray:
@@ -171,6 +182,9 @@ def sun_geometry(scene, hours: float, supersample: int = SUN_SUPERSAMPLE) -> dic
         ``supersample``) and ``colour`` (the sun's colour, linear, 3 floats);
         None when the disk covers no pixel.
     """
+    scene = as_scene(scene)
+    hours = real_number("hours", hours)
+    require_int_range("supersample", supersample, 1, 64)
     rows, cols, cov = sun_coverage(scene.camera, scene.sun, hours, supersample)
     if not cov.size or not np.any(cov > 0):
         return None
@@ -198,6 +212,14 @@ def code_meanings(sun, cmap=CODE_MAP, clouds=None) -> list[str]:
     ``cmap`` is the scene's code map (:func:`~sunset.tape.codes.code_map`) and
     ``clouds`` its cloud layer, if any.
     """
+    from ..model.clouds import Clouds
+    from ..model.sun import Sun
+    from ..tape.codes import CodeMap
+
+    require_instance("sun", sun, Sun)
+    require_instance("cmap", cmap, CodeMap)
+    if clouds is not None:
+        require_instance("clouds", clouds, Clouds)
     out = [""] * 256
     if cmap.cloud is not None and clouds is not None:
         d = cloud_code_depths(cmap.cloud.size, clouds.max_top, clouds.max_bottom)
@@ -223,6 +245,15 @@ def code_meanings(sun, cmap=CODE_MAP, clouds=None) -> list[str]:
 
 
 # --------------------------------------------------------------------------- the data document
+def _grid(grid) -> np.ndarray:
+    """The hours of a grid: a non-empty 1-D array of finite hours before sunset."""
+    g = real_array("grid", grid)
+    if g.ndim != 1 or g.size == 0 or g.size > MAX_GRID_HOURS:
+        raise SunsetError(f"grid must be a list of 1 to {MAX_GRID_HOURS:,} hours, got {shown(grid)}")
+    require_hours("grid", g)
+    return g
+
+
 def _b64(data: bytes) -> str:
     return base64.b64encode(data).decode("ascii")
 
@@ -286,13 +317,13 @@ def player_data(tape, grid, start_hours: float | None = None, progress: bool = F
     """
     from ..provenance import provenance
 
+    from ..tape.tapefile import Tape
+
+    require_instance("tape", tape, Tape)
+    require_bool("progress", progress)
     scene = tape.scene
-    grid = np.asarray(grid, dtype=np.float64).reshape(-1)
-    if grid.size == 0:
-        raise SunsetError("the hours grid is empty")
-    require_finite("hours", grid)
-    start = float(grid[0]) if start_hours is None else float(start_hours)
-    require_finite("start_hours", start)
+    grid = _grid(grid)
+    start = float(grid[0]) if start_hours is None else real_number("start_hours", start_hours)
     sun = scene.sun
     cmap = code_map(scene)
     tabs, suns = [], []
@@ -342,6 +373,7 @@ def _asset(name: str) -> str:
 
 def player_fragment(data: dict) -> str:
     """The player as an HTML fragment (markup, style, data and script) to embed in a page."""
+    check_data(data, "title")
     markup = _asset("player.html").replace("{{TITLE}}", html_text(data["title"]))
     return (f"<style>\n{_asset('player.css')}</style>\n{markup}"
             f'<script type="application/json" id="{_DATA_ID}">{_data_json(data)}</script>\n'
@@ -350,6 +382,7 @@ def player_fragment(data: dict) -> str:
 
 def player_html(data: dict) -> str:
     """The player as one self-contained HTML document: nothing is loaded from anywhere."""
+    check_data(data, "title")
     title = html_text(f"{data['title']}: the colour-table player")
     made_by = html_text(f"sunset {data.get('sunset_version', '')}".strip())
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
@@ -360,6 +393,8 @@ def player_html(data: dict) -> str:
 
 def read_player_data(text: str) -> dict:
     """The data document embedded in a player page (its HTML text)."""
+    if not isinstance(text, str):
+        raise SunsetError(f"text must be a page's HTML text, got {shown(text)}")
     m = re.search(rf'<script type="application/json" id="{_DATA_ID}">(.*?)</script>', text, flags=re.S)
     if m is None:
         raise SunsetError("no sunset player data in this page")
@@ -367,55 +402,6 @@ def read_player_data(text: str) -> dict:
     if data.get("format") != PLAYER_FORMAT:
         raise SunsetError(f"player data format {data.get('format')!r} is not {PLAYER_FORMAT!r}")
     return data
-
-
-def decode_codes(data: dict) -> np.ndarray:
-    """The codes of every frame, (N, H, W) uint8, decoded from the data's PNGs."""
-    from PIL import Image
-
-    frames = []
-    for b64 in data["codes"]:
-        with Image.open(io.BytesIO(base64.b64decode(b64))) as img:
-            if img.mode != "L":
-                raise SunsetError(f"player codes must be 8-bit greyscale PNG, got mode {img.mode}")
-            frames.append(np.asarray(img, dtype=np.uint8))
-    return np.stack(frames)
-
-
-def data_tables(data: dict) -> np.ndarray:
-    """The tables of every grid hour, (M, 3, 256) uint8."""
-    raw = np.frombuffer(base64.b64decode(data["tables"]), dtype=np.uint8)
-    return raw.reshape(len(data["hours"]), 3, 256)
-
-
-def compose(data: dict, frame: int, hour: int,
-            codes: np.ndarray | None = None) -> np.ndarray:
-    """What ``player.js`` draws for a frame and a grid hour (an index), in NumPy.
-
-    Returns (H, W, 3) uint8.
-
-    Table lookup in each pass, then the sun's disk from the exported
-    coverage, mixed in linear light and rounded through the exported
-    thresholds. The reference of the data format: it must equal
-    :func:`sunset.expose` on the same codes and hour.
-    """
-    codes = decode_codes(data)[frame] if codes is None else codes
-    tab = data_tables(data)[hour]
-    rgb = np.stack([tab[k][codes] for k in range(3)], axis=-1)
-    s = data["sun"][hour]
-    if s is not None:
-        rows = slice(s["r0"], s["r0"] + s["h"])
-        cols = slice(s["c0"], s["c0"] + s["w"])
-        k = np.asarray(s["cover"], dtype=np.int64).reshape(s["h"], s["w"])
-        n2 = data["supersample"] ** 2
-        use = (k > 0) & (codes[rows, cols] >= data["sky_start"])
-        w = (k / n2)[..., None]
-        box = np.asarray(data["decode"])[rgb[rows, cols]]
-        mixed = (1.0 - w) * box + w * np.asarray(s["colour"])
-        byte = np.searchsorted(np.asarray(data["encode"]), mixed, side="right")
-        byte = byte.astype(np.uint8)
-        rgb[rows, cols] = np.where(use[..., None], byte, rgb[rows, cols])
-    return rgb
 
 
 # --------------------------------------------------------------------------- the file
@@ -451,14 +437,16 @@ def write_player(scene, path: str | os.PathLike, frames: int = PLAYER_FRAMES, si
     from ..io import check_writable, write_bytes
 
     path = check_writable(path, HTML_SUFFIXES)
-    require_int_range("frames", frames, 1)
+    scene = as_scene(scene)
+    require_bool("progress", progress)
+    require_int_range("frames", frames, 1, MAX_CYCLE_FRAMES)
     require_int_range("reflections", reflections, 0, 2)
     require_int_range("seed", seed, 0, 2**32 - 1)
     grid = hours_grid(from_hours, to_hours)
     require_hours("from_hours", from_hours)
     require_hours("to_hours", to_hours)
     cycle_times(scene, frames)                       # a sea that never repeats fails here, before the work
-    scene = scene.with_size(*(size or player_size(scene)))
+    scene = scene.with_size(*(player_size(scene) if size is None else require_size("size", size)))
     tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress)
     data = player_data(tape, grid, progress=progress)
     write_bytes(path, player_html(data).encode("utf-8"))

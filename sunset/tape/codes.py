@@ -73,7 +73,7 @@ from ..constants import (CLOUD, POST, CLOUDY_CODES_BEACH, CLOUDY_CODES_CLIFF, CL
                          CLOUDY_CODES_SKY, CODES_BEACH, CODES_CLIFF, CODES_HALO, CODES_HILL, CODES_SKY, CODES_TRACK, HALO_FACTOR,
                         N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY, TRACK_DITHER)
 from ..kernels import run_strips, strips, twin
-from ..errors import SunsetError
+from ..errors import SunsetError, require_instance
 from ..vector.frame import Frame
 from ..model.sun import Sun
 
@@ -328,6 +328,7 @@ def track_code_elevations(size: int, sun: Sun) -> np.ndarray:
 
 # --------------------------------------------------------------------------- encoding a frame
 def _check_frame(frame: Frame, shape: tuple[int, int]) -> None:
+    require_instance("frame", frame, Frame)
     for name in ("ray", "final_surface", "final_part", "final_normal", "bounces"):
         if getattr(frame, name) is None:
             raise SunsetError(f"frame.{name} is not filled: trace the frame's reflections before coding it")

@@ -35,6 +35,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import math
 import os
 import struct
 from dataclasses import dataclass
@@ -165,29 +166,57 @@ def _read_exactly(fh, count: int, name: str, what: str) -> bytes:
     return data
 
 
+#: The keys of a header, every one required but ``provenance``.
+_HEADER_KEYS = frozenset({"frames", "height", "width", "times", "reflections", "seed", "scene", "sunset_version",
+                          "provenance"})
+
+
+def _times(value, frames: int) -> np.ndarray:
+    """The header's ``times``: a flat list of exactly ``frames`` finite JSON numbers, as strictly as the checksum.
+
+    Not a number nested in a list, not text, not a truth value, not a list of
+    another length (NumPy would read ``[[0.5]]``, ``["0.5"]`` or ``[true]``).
+    """
+    if not isinstance(value, list):
+        raise SunsetError(f"times must be a list of {frames} numbers, got {shown(value)}")
+    if len(value) != frames:
+        raise SunsetError(f"times must hold one number per frame ({frames}), got {len(value)}")
+    for k, t in enumerate(value):
+        if isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t):
+            raise SunsetError(f"times[{k}] must be a finite number, got {shown(t)}")
+    return np.array(value, dtype=np.float64)
+
+
 def _header_fields(head, name: str):
     from ..model.scene import scene_from_text
 
     if not isinstance(head, dict):
         raise SunsetError(f"{name}: damaged tape header (not a JSON object)")
     try:
+        unknown = sorted(set(head) - _HEADER_KEYS)
+        if unknown:
+            raise SunsetError(f"unknown key {shown(unknown[0])} (a version {TAPE_FORMAT_VERSION} header holds "
+                              f"{', '.join(sorted(_HEADER_KEYS))})")
         dims = [head["frames"], head["height"], head["width"]]
         for key, v in zip(("frames", "height", "width"), dims):
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise SunsetError(f"{key} must be a positive integer, got {shown(v)}")
+        n, h, w = dims
+        if n * h * w > MAX_TAPE_BYTES:           # before the times, whose list would be as long as n
+            raise SunsetError(f"{n} frames of {w}x{h} is more than the {MAX_TAPE_BYTES / 2**30:g} GiB a tape may hold")
         if not isinstance(head["scene"], str):
             raise SunsetError("scene must be TOML text")
-        if not isinstance(head["times"], list):
-            raise SunsetError("times must be a list")
+        times = _times(head["times"], n)
         reflections, seed = head["reflections"], head["seed"]
         for key, v in (("reflections", reflections), ("seed", seed)):
             if isinstance(v, bool) or not isinstance(v, int):
                 raise SunsetError(f"{key} must be an integer, got {shown(v)}")
-        times = np.array(head["times"], dtype=np.float64)
-        version = str(head["sunset_version"])
+        version = head["sunset_version"]
+        if not isinstance(version, str):
+            raise SunsetError(f"sunset_version must be text, got {shown(version)}")
         made_by = head.get("provenance", {})
-        if not isinstance(made_by, dict):
-            raise SunsetError(f"provenance must be a table, got {shown(made_by)}")
+        if not isinstance(made_by, dict) or not all(isinstance(v, str) for v in made_by.values()):
+            raise SunsetError(f"provenance must be a table of texts, got {shown(made_by)}")
     except SunsetError as exc:
         raise SunsetError(f"{name}: damaged tape header ({exc})") from None
     except (ValueError, KeyError, TypeError, OverflowError) as exc:

@@ -18,7 +18,17 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..constants import SEA, SKY
+from ..errors import SunsetError, real_number, require_finite, require_int_range, shown
 from ..kernels import row_strips, run_strips
+
+
+#: Each array of a frame: its shape after (H, W) and the kinds of its dtype (float, integer).
+_FIELDS = {"direction": ((3,), "f"), "surface": ((), "i"), "part": ((), "i"), "distance": ((), "f"),
+           "point": ((3,), "f"), "normal": ((3,), "f"), "bounces": ((), "u"), "ray": ((3,), "f"),
+           "final_surface": ((), "i"), "final_part": ((), "i"), "final_normal": ((3,), "f"),
+           "cloud_depth": ((), "f"), "incidence": ((2,), "f"), "sea_rays": ((2, 3), "f")}
+#: (The stages make frames of some fields only, such as a strip's sea: every array but ``surface`` may be None.)
+_REQUIRED = ("surface",)
 
 
 @dataclass(repr=False)
@@ -92,6 +102,22 @@ class Frame:
     cloud_depth: np.ndarray | None = None
     incidence: np.ndarray | None = None
     sea_rays: np.ndarray | None = None
+
+    def __post_init__(self):
+        require_finite("t", real_number("t", self.t))
+        require_int_range("reflections", self.reflections, 0, 2)
+        if not isinstance(self.surface, np.ndarray) or self.surface.ndim != 2 or self.surface.dtype.kind != "i":
+            raise SunsetError(f"surface must be an (H, W) integer array, got {shown(self.surface)}")
+        H, W = self.surface.shape
+        for name, (tail, kinds) in _FIELDS.items():
+            value = getattr(self, name)
+            if value is None and name not in _REQUIRED:
+                continue
+            if (not isinstance(value, np.ndarray) or value.shape != (H, W) + tail
+                    or value.dtype.kind not in kinds):
+                want = "a float" if kinds == "f" else "an integer"
+                raise SunsetError(f"{name} must be {want} array of shape {(H, W) + tail} (the surface's "
+                                  f"{H}×{W}), got {shown(value)}")
 
     @property
     def shape(self) -> tuple[int, int]:

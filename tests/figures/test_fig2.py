@@ -54,7 +54,7 @@ def test_colours_are_distinct():
     (dict(alpha=0.9), r"alpha must be in \(0, 0.5\]"),
     (dict(steepness=float("inf")), "steepness must be a finite number"),
     (dict(steepness=0.0), "steepness must be positive"),
-    (dict(steepness=0.2), "steepness must be at most 0.1411"),
+    (dict(steepness=0.2), "steepness must be in 0..0.141063"),
 ])
 def test_figure2_bad_input(tmp_path, kwargs, message):
     with pytest.raises(SunsetError, match=message):

@@ -89,5 +89,5 @@ def test_posts_in_a_scene_file():
         Scene.from_toml(text.replace("radius = 0.3", "radius = -0.3"))
     many = base.to_toml() + "".join(f"\n[[posts]]\nx = {k + 1.0}\ny = 12.0\nradius = 0.1\ntop = 1.0\ndepth = 1.0\n"
                                     for k in range(17))
-    with pytest.raises(SunsetError, match="at most 16 posts"):
+    with pytest.raises(SunsetError, match="at most 16"):
         Scene.from_toml(many)

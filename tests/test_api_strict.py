@@ -1,0 +1,186 @@
+"""The public API is as strict as the command line (issue 33): a wrong argument is a SunsetError, at once.
+
+Every name of ``sunset.__all__`` that takes arguments, the series
+(:mod:`sunset.model.series`, :mod:`sunset.model.pade`, the exact wave's
+methods) and the player's functions (:mod:`sunset.recorder.player`) are
+called with valid arguments but one, which hypothesis draws from values
+that are wrong for it: text where a number goes, None where nothing is
+optional, NaN, infinities, integers past float64, complex numbers, truth
+values, arrays of the wrong shape, containers of the wrong things, and
+objects of no use at all. The call must raise :class:`~sunset.SunsetError`,
+never another exception, within hypothesis' deadline (a second: a refusal
+comes before the work).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import inspect
+import tempfile
+from dataclasses import asdict, fields
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import sunset
+from sunset.errors import SunsetError
+from sunset.model.pade import pade_exact
+from sunset.model.series import domb_sykes, pade_coefficients
+from sunset.recorder import player
+
+#: A tiny scene and what the pipeline makes of it, the valid arguments the calls start from.
+SCENE = sunset.Scene.default().with_size(8, 8)
+FRAME = sunset.render(SCENE, 0.0, 2)
+CODES = sunset.encode(SCENE, FRAME)
+SERIES = sunset.stokes_series(6)
+FLOATS = sunset.stokes_series(6, exact=False)
+WAVE = sunset.solve_stokes(0.05)
+
+
+def _data():
+    from sunset.tape.tapefile import Tape
+
+    _data.tape = Tape(scene=SCENE, codes=CODES[None], times=np.array([0.0]))
+    return player.player_data(_data.tape, player.hours_grid(0.5, 0.0))
+
+
+DATA = _data()
+#: Where the calls that write files (they must not) would write them.
+WORK = tempfile.mkdtemp(prefix="sunset-api-")
+
+
+class Useless:
+    """An object of no use to any argument."""
+
+    def __repr__(self):
+        raise RuntimeError("a hostile __repr__")
+
+
+#: Values wrong for every argument of the API.
+WRONG = [None, "0.5", "", "carlas-island\n", b"1", 1 + 2j, float("nan"), float("inf"), -float("inf"),
+         10**5000, -(10**5000), Useless(), {"a": 1}, {1, 2}, [[1, 2], [3]], ["a", "b"],
+         np.array([np.nan, 1.0]), np.array(["a"]), np.zeros((2, 3, 4, 5)), np.array(1 + 1j), object]
+#: ... and values wrong for arguments that are not truth values (or that take text: names, paths, titles).
+NOT_BOOL = [True, False, np.bool_(True)]
+
+#: (what, the callable, its valid keyword arguments, the arguments that take text, that take None).
+CASES = [
+    ("Camera", sunset.Camera, asdict(SCENE.camera), (), ()),
+    ("Sun", sunset.Sun, asdict(SCENE.sun), (), ()),
+    ("WaveTrain", sunset.WaveTrain, {f.name: getattr(SCENE.sea.trains[0], f.name)
+                                     for f in fields(SCENE.sea.trains[0]) if f.init}, (), ()),
+    ("Sea", sunset.Sea, {"trains": SCENE.sea.trains}, (), ("wind",)),
+    ("Paraboloid", sunset.Paraboloid, asdict(SCENE.islands[0].cliff), (), ()),
+    ("Cosine", sunset.Cosine, {"amplitude": 1.0, "l": 0.1, "m": 0.2, "phase": 0.0}, (), ()),
+    ("Island", sunset.Island, {f.name: getattr(SCENE.islands[0], f.name) for f in fields(SCENE.islands[0])
+                               if f.init}, ("name",), ()),
+    ("Scene", sunset.Scene, {"camera": SCENE.camera, "sun": SCENE.sun, "sea": SCENE.sea, "islands": SCENE.islands,
+                             "title": "t"}, ("title",), ("clouds",)),
+    ("Frame", sunset.Frame, {f.name: getattr(FRAME, f.name) for f in fields(FRAME)}, (),
+     tuple(f.name for f in fields(FRAME) if f.name not in ("t", "reflections", "surface"))),
+    ("render", sunset.render, {"scene": SCENE, "t": 0.0, "reflections": 2}, ("scene",), ("islands",)),
+    ("encode", sunset.encode, {"scene": SCENE, "frame": FRAME, "seed": 0}, ("scene",), ()),
+    ("expose", sunset.expose, {"scene": SCENE, "codes": CODES, "hours": 0.35}, ("scene",), ()),
+    ("picture", sunset.picture, {"scene": SCENE, "t": 0.0, "hours": 0.35, "size": (8, 8), "reflections": 2,
+                                 "seed": 0}, ("scene",), ("size",)),
+    ("make_film", sunset.make_film, {"scene": SCENE, "path_mp4": "f.mp4", "frames": 2, "progress": False,
+                                     "fps": 24, "from_hours": 0.5, "to_hours": 0.0, "cycles": 1, "workers": 1,
+                                     "seed": 0, "reflections": 2},
+     ("scene", "path_mp4", "path_preview", "tape_path"), ("path_preview", "tape_path", "workers")),
+    ("solve_stokes", sunset.solve_stokes, {"steepness": 0.05}, (), ("n_modes", "map_parameter")),
+    ("stokes_series", sunset.stokes_series, {"order": 6, "exact": True}, (), ()),
+    ("StokesSeries.pade", SERIES.pade, {"quantity": "speed", "x": 0.1, "parameter": "epsilon", "terms": 6},
+     ("quantity", "parameter"), ("terms",)),
+    ("StokesSeries(float).pade", FLOATS.pade, {"quantity": "speed", "x": 0.1, "parameter": "epsilon"},
+     ("quantity", "parameter"), ("terms",)),
+    ("StokesSeries.partial_sum", SERIES.partial_sum, {"quantity": "a2", "x": 0.1, "parameter": "alpha"},
+     ("quantity", "parameter"), ("terms",)),
+    ("StokesSeries.at_steepness", SERIES.at_steepness, {"steepness": 0.1, "n_amplitudes": 2}, (), ("terms",)),
+    ("StokesSeries.coefficients", SERIES.coefficients, {"quantity": "speed", "parameter": "alpha"},
+     ("quantity", "parameter"), ()),
+    ("StokesSeries.amplitude", SERIES.amplitude, {"n": 2, "parameter": "alpha"}, ("parameter",), ()),
+    ("StokesSeries.conformal", SERIES.conformal, {"n": 1}, (), ()),
+    ("StokesSeries.highest_wave", SERIES.highest_wave, {"terms": 6}, (), ("terms",)),
+    ("StokesSeries.speed_maximum", SERIES.speed_maximum, {"terms": 6}, (), ("terms",)),
+    ("domb_sykes", domb_sykes, {"coefficients": SERIES.speed("epsilon"), "stride": 2, "fit_last": 2}, (), ()),
+    ("pade_coefficients", pade_coefficients, {"an": [1.0, 0.5, 0.25], "m": 1, "n": 1}, (), ()),
+    ("pade_exact", pade_exact, {"an": [1, 2, 3], "m": 1, "n": 1}, (), ()),
+    ("StokesWave.profile", WAVE.profile, {"kx": 0.3}, (), ()),
+    ("StokesWave.surface", WAVE.surface, {"n_points": 9}, (), ()),
+    ("StokesWave.series_profile", WAVE.series_profile, {"kx": 0.3, "order": 3}, (), ()),
+    ("player.hours_grid", player.hours_grid, {"from_hours": 0.5, "to_hours": 0.0}, (), ()),
+    ("player.nearest_hour", player.nearest_hour, {"grid": player.hours_grid(0.5, 0.0), "hours": 0.2}, (), ()),
+    ("player.player_size", player.player_size, {"scene": SCENE, "long_side": 64}, ("scene",), ()),
+    ("player.quantise", player.quantise, {"lin": np.zeros((2, 3))}, (), ()),
+    ("player.sun_geometry", player.sun_geometry, {"scene": SCENE, "hours": 0.2}, ("scene",), ()),
+    ("player.code_meanings", player.code_meanings, {"sun": SCENE.sun}, (), ("clouds",)),
+    ("player.player_data", player.player_data, {"tape": _data.tape, "grid": player.hours_grid(0.5, 0.0)}, (),
+     ("start_hours",)),
+    ("player.player_fragment", player.player_fragment, {"data": DATA}, (), ()),
+    ("player.player_html", player.player_html, {"data": DATA}, (), ()),
+    ("player.read_player_data", player.read_player_data, {"text": player.player_html(DATA)}, ("text",), ()),
+    ("player.decode_codes", player.decode_codes, {"data": DATA}, (), ()),
+    ("player.data_tables", player.data_tables, {"data": DATA}, (), ()),
+    ("player.compose", player.compose, {"data": DATA, "frame": 0, "hour": 0}, (), ("codes",)),
+    ("player.write_player", player.write_player, {"scene": SCENE, "path": "p.html", "frames": 2, "size": (8, 8),
+                                                  "progress": False}, ("scene", "path"), ("size",)),
+]
+
+#: Counts capped by the usable CPUs: any whole number >= 1 is valid, 10**5000 too.
+COUNTS = ("workers",)
+#: Arguments that take an array of any shape (the zeros of shape (2, 3, 4, 5) are valid there).
+ARRAYS = ("kx", "x", "lin")
+
+PAIRS = [(case, name) for case in CASES for name in case[2]]
+
+
+def wrong_for(case, name):
+    what, fn, kwargs, text_ok, none_ok = case
+    values = [v for v in WRONG if not (v is None and name in none_ok)
+              and not (isinstance(v, (str, bytes)) and name in text_ok)
+              and not (isinstance(v, int) and name in COUNTS)
+              and not (isinstance(v, np.ndarray) and v.dtype.kind == "f" and v.ndim == 4 and name in ARRAYS)]
+    if not isinstance(kwargs[name], (bool, np.bool_)):
+        values += NOT_BOOL
+    return st.sampled_from(values)
+
+
+@st.composite
+def calls(draw):
+    case, name = draw(st.sampled_from(PAIRS))
+    value = draw(wrong_for(case, name))
+    return case, name, value
+
+
+@settings(max_examples=600, deadline=1000, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(calls())
+def test_a_wrong_argument_is_a_sunset_error_at_once(call):
+    (what, fn, kwargs, _, _), name, value = call
+    args = {**kwargs, name: value}
+    with contextlib.chdir(WORK), pytest.raises(SunsetError) as info:
+        fn(**args)
+    message = str(info.value)
+    assert message and "\n" not in message, (what, name, message)
+
+
+def test_the_valid_calls_run():
+    """The baselines are valid: each call with its own arguments returns (the test above changes one)."""
+    for what, fn, kwargs, _, _ in CASES:
+        if what in ("make_film", "player.write_player"):
+            continue                                            # they write files: valid by the CLI's tests
+        fn(**kwargs)
+
+
+def test_every_public_callable_is_covered():
+    names = {c[0] for c in CASES}
+    for name in sunset.__all__:
+        obj = getattr(sunset, name)
+        if name in ("SunsetError", "__version__", "default_scene", "scene_names", "explore"):
+            continue
+        assert callable(obj) and name in names, name
+    for name in player.__all__:
+        if callable(getattr(player, name)) and inspect.signature(getattr(player, name)).parameters:
+            assert f"player.{name}" in names, name
