@@ -332,7 +332,7 @@ def _cmd_render_rgb(args, samples: int) -> None:
     if args.still:
         scene = scene.still()
     from .figures.paper import png_metadata
-    from .light.film import write_rgb_frame
+    from .pipeline.rgb import write_rgb_frame
 
     settings = {"t": args.time, "hours": args.hours, "reflections": args.reflections, "shading": "rgb",
                 "samples": samples, "depth": depth}
@@ -378,7 +378,7 @@ def _cmd_player(args) -> None:
 
 def _rgb_film(scene, args, samples: int) -> None:
     """``film --shading rgb``: one cycle's geometry traced once, re-shaded per hour (:mod:`sunset.light.film`)."""
-    from .light.film import film_frames, trace_cycle
+    from .pipeline.rgb import film_frames, trace_cycle
     from .recorder.film import FILM_CYCLES, _check_film, cycle_times, film_hours, write_video
     from .tape.cycle import frame_workers
 

@@ -2,10 +2,10 @@
 
 * :func:`signals_stop_the_command`: Ctrl-C, SIGTERM and SIGHUP become exceptions
   (``KeyboardInterrupt``, :class:`Interrupted`), so the atomic writer removes
-  its temporary files on the way out; the stop is also noted in
-  :mod:`sunset.io`, so that a stop whose exception Python swallowed (in an
-  at-fork hook or a destructor) still keeps every output from landing, and is
-  reported once (:func:`check_stop`), not as an "Exception ignored" trace.
+  its temporary files on the way out; the stop is also noted
+  (:func:`note_stop`, which :mod:`sunset.io` reads), so that a stop whose
+  exception Python swallowed (in an at-fork hook or a destructor) still keeps
+  every output from landing, and is reported once (:func:`check_stop`), not as an "Exception ignored" trace.
 * :func:`one_line`: an error message as one short line.
 * :func:`silenced_stdout`: after standard output failed (``sunset scene >
   /dev/full``), Python's own flush at exit must not report it again.
@@ -25,8 +25,8 @@ import os
 import signal
 import sys
 
-__all__ = ["MAX_MESSAGE", "Interrupted", "signals_stop_the_command", "check_stop", "one_line", "silenced_stdout",
-           "config_fallback", "usable_cpus", "env_count", "check_environment", "COUNT_VARIABLES"]
+__all__ = ["MAX_MESSAGE", "Interrupted", "signals_stop_the_command", "note_stop", "check_stop", "one_line",
+           "silenced_stdout", "config_fallback", "usable_cpus", "env_count", "check_environment", "COUNT_VARIABLES"]
 
 #: The longest error line the command prints, characters.
 MAX_MESSAGE = 400
@@ -43,18 +43,29 @@ class Interrupted(BaseException):
         self.signum = signum
 
 
-def _on_signal(signum, frame):
-    from .io import note_stop
+#: A stop signal (Ctrl-C, SIGTERM) noted by the command line's handler. Its
+#: exception can be swallowed where Python ignores errors (an at-fork hook of
+#: a subprocess, a destructor): no output lands once one is noted (:mod:`sunset.io`).
+_stop: list[BaseException] = []
 
+
+def note_stop(exc: BaseException | None) -> None:
+    """Record (or, with None, forget) a stop signal's exception: every later commit of an output raises it."""
+    _stop.clear()
+    if exc is not None:
+        _stop.append(exc)
+
+
+def _on_signal(signum, frame):
     exc = KeyboardInterrupt() if signum == signal.SIGINT else Interrupted(signum)
     note_stop(exc)                       # should the exception be swallowed, no output lands all the same
     raise exc
 
 
 def check_stop() -> None:
-    """Raise the noted stop, if a signal came whose exception was swallowed."""
-    if "sunset.io" in sys.modules:
-        sys.modules["sunset.io"]._check_stop()
+    """Raise the noted stop, if a signal came whose exception was swallowed (:func:`note_stop`)."""
+    if _stop:
+        raise _stop[0]
 
 
 @contextlib.contextmanager
@@ -79,8 +90,7 @@ def signals_stop_the_command():
         sys.unraisablehook = hook
         for sig, old in handlers.items():
             signal.signal(sig, old)
-        if "sunset.io" in sys.modules:
-            sys.modules["sunset.io"].note_stop(None)
+        note_stop(None)
 
 
 def one_line(message) -> str:

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import SunsetError, shown
+from .guard import check_stop as _check_stop
 
 #: The name endings of the files this package writes, by kind.
 PNG_SUFFIXES = (".png",)
@@ -44,22 +45,6 @@ _STALE_SECONDS = 60.0
 
 _pending: contextvars.ContextVar[list | None] = contextvars.ContextVar("sunset_pending_outputs", default=None)
 
-#: A stop signal (Ctrl-C, SIGTERM) noted by the command line's handler. Its
-#: exception can be swallowed where Python ignores errors (an at-fork hook of
-#: a subprocess, a destructor): no output lands once one is noted.
-_stop: list[BaseException] = []
-
-
-def note_stop(exc: BaseException | None) -> None:
-    """Record (or, with None, forget) a stop signal's exception: every later commit of an output raises it."""
-    _stop.clear()
-    if exc is not None:
-        _stop.append(exc)
-
-
-def _check_stop() -> None:
-    if _stop:
-        raise _stop[0]
 
 
 def _cannot(path, exc: OSError, verb: str = "write") -> SunsetError:
@@ -211,7 +196,7 @@ def remove_stale_temporaries(folder: str | os.PathLike) -> list[Path]:
 
 
 def check_stop() -> None:
-    """Raise the stop signal's exception if one was noted (:func:`note_stop`): no output lands after it."""
+    """Raise the stop signal's exception if one was noted (:func:`sunset.guard.note_stop`): no output lands after it."""
     _check_stop()
 
 

@@ -23,7 +23,8 @@ from sunset.constants import (CLOUD_STRIP_PAIRS, MAX_FRAME_BYTES, MAX_FRAME_SAMP
 from sunset.bench.memory import _traced_peak
 from sunset.errors import SunsetError
 from sunset.kernels import use_compiled
-from sunset.light.budget import check_rgb_work, rgb_bytes
+from sunset.light.budget import rgb_bytes
+from sunset.pipeline.budget import check_rgb_work
 from sunset.model.clouds import CloudCell, Clouds
 from sunset.model.scene import Scene, load_named_scene
 from sunset.vector.budget import check_work, predict_work
@@ -67,7 +68,7 @@ def test_rgb_memory_is_measured_within_its_constants():
 @pytest.mark.parametrize("name", ["carlas-island", "carlas-island-clouds", "post-in-the-swell"])
 def test_rgb_frame_peak_is_within_the_prediction(tmp_path, name):
     """A whole RGB frame written as PNG, supersampled 2x2: its traced peak is at most the predicted bytes."""
-    from sunset.light.film import write_rgb_frame
+    from sunset.pipeline.rgb import write_rgb_frame
 
     scene = load_named_scene(name).with_size(48, 40)
     with use_compiled(False):
@@ -78,7 +79,7 @@ def test_rgb_frame_peak_is_within_the_prediction(tmp_path, name):
 
 def test_rgb_film_peak_is_within_the_prediction():
     """film --shading rgb keeps a cycle's geometries and shades frame by frame: within rgb_bytes(..., frames)."""
-    from sunset.light.film import film_frames, trace_cycle
+    from sunset.pipeline.rgb import film_frames, trace_cycle
 
     scene = Scene.default().with_size(40, 32)
 

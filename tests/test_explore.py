@@ -23,7 +23,7 @@ from sunset.cli import main
 from sunset.explorer.picture import Renderer
 from sunset.explorer.settings import Start, scene_for
 from sunset.light.output import to_uint8
-from sunset.light.render import render_rgb
+from sunset.pipeline.rgb import render_rgb
 from sunset.recorder.colour_tables import tables
 from sunset.tape.codes import CODE_MAP
 

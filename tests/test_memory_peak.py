@@ -28,7 +28,8 @@ from sunset.constants import INTERPRETER_BYTES, MAX_WINDOW_SLOPE
 from sunset.errors import SunsetError
 from sunset.guard import usable_cpus
 from sunset.kernels import AVAILABLE
-from sunset.light.budget import check_rgb_work, rgb_bytes
+from sunset.light.budget import rgb_bytes
+from sunset.pipeline.budget import check_rgb_work
 from sunset.model.scene import load_named_scene
 from sunset.vector.budget import check_work, predict_work
 

@@ -53,6 +53,7 @@ from . import extra
 from .extra import timed
 from . import explorer as explorer_bench
 from . import ocean as ocean_bench
+from .frame import _frame_once, _measure_frame  # noqa: F401 (the frame's rows; the profile times the same frame)
 from .profile import _function_name, _measure_profile  # noqa: F401 (the profile's row; tests use the name)
 from . import colour as colour_bench
 from . import rgb as rgb_bench
@@ -76,50 +77,6 @@ SCALING_SIZES = (128, 256, 512, 768, 1024)
 SCALING_TRAINS = (1, 2, 4, 8)
 SCALING_ISLANDS = (0, 1, 2, 3, 6)
 SCALING_SIZE = 512
-
-
-def _frame_once(scene, t: float = 0.0) -> dict:
-    """One Figure 6 frame, stage by stage: seconds per stage (see :data:`STAGES`), and the CPU time of all threads.
-
-    ``cpu time`` over ``total`` is how many cores the frame kept busy on
-    average. (On a machine shared by several login sessions, Linux's
-    autogroup scheduler gives each session a share of the CPUs, so a loaded
-    machine lends a frame's second thread little extra time.)
-    """
-    from ..tape.codes import encode
-    from ..recorder.dicomed import expose
-    from ..vector.direct import trace_direct
-    from ..vector.reflect import trace_reflections
-
-    info: dict = {}
-    c0 = time.process_time()
-    t0 = time.perf_counter()
-    frame = trace_direct(scene, t, info=info)
-    t1 = time.perf_counter()
-    # the 8-bit pipeline: the RGB back end's fields are not made; Frame.finish_direct is
-    # trace_reflections' (which leaves the rows that are all sea to the reflected rays)
-    trace_reflections(scene, frame, 2, sea_bounces=False)
-    t2 = time.perf_counter()
-    codes = encode(scene, frame, seed=0)
-    t3 = time.perf_counter()
-    expose(scene, codes, 0.35)
-    t4 = time.perf_counter()
-    c4 = time.process_time()
-    sec = info["seconds"]
-    direct_other = (t1 - t0) - sum(sec.values())  # bookkeeping: with the points
-    return {"sea scan line": sec["sea"], "islands": sec["islands"],
-            "points & normals": sec["assemble"] + direct_other, "reflections": t2 - t1, "codes": t3 - t2,
-            "film recorder": t4 - t3, "vector stage": t3 - t0, "total": t4 - t0, "cpu time": c4 - c0}
-
-
-def _measure_frame(width: int, height: int, repeats: int) -> dict:
-    """Time a Figure 6 frame (two reflections, default scene), stage by stage."""
-    from ..model.scene import Scene
-
-    scene = Scene.default().with_size(width, height)
-    _frame_once(scene)  # warm-up (and the compiled kernels' load)
-    runs = [_frame_once(scene) for _ in range(repeats)]
-    return {k: [r[k] for r in runs] for k in runs[0]}
 
 
 def _measure_brute(width: int, height: int, repeats: int) -> dict:

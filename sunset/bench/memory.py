@@ -64,7 +64,8 @@ def measure_rgb_bytes(scene, samples: int = 4, sizes=((100, 80), (200, 160))) ->
     from ..io import png_bytes
     from ..kernels import use_compiled
     from ..light.output import png16_bytes, to_uint16, to_uint8
-    from ..light.render import check_samples, frame_light, shade_display, shade_scene_linear, trace_geometry
+    from ..light.render import check_samples, frame_light, shade_display, shade_scene_linear
+    from ..pipeline.rgb import trace_geometry
 
     k = check_samples(samples)
 

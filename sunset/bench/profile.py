@@ -11,7 +11,7 @@ def _measure_profile(width: int, height: int, repeats: int) -> dict:
     import pstats
 
     from ..model.scene import Scene
-    from . import _frame_once
+    from .frame import _frame_once
 
     scene = Scene.default().with_size(width, height)
     _frame_once(scene)

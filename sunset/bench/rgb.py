@@ -20,7 +20,8 @@ def measure_rgb(width: int, height: int, repeats: int) -> dict:
     from ..kernels import keep_freed_memory
     from ..light.geometry import Geometry
     from ..light.lighting import Lighting
-    from ..light.render import shade_display, supersampled, trace_geometry
+    from ..light.render import shade_display, supersampled
+    from ..pipeline.rgb import trace_geometry
     from ..vector.render import render
     from ..model.scene import Scene
 

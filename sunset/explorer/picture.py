@@ -71,7 +71,8 @@ class Renderer:
             codes = self._codes
         else:
             from ..light.output import to_uint8
-            from ..light.render import frame_light, shade_display, trace_geometry
+            from ..light.render import frame_light, shade_display
+            from ..pipeline.rgb import trace_geometry
 
             key = (scene, float(view.t), view.reflections, "rgb")
             if key != self._key:

@@ -94,7 +94,7 @@ def check_budgets(names, scene) -> None:
 
     The budgets are :mod:`sunset.vector.budget`'s and :mod:`sunset.light.budget`'s.
     """
-    from ..light.budget import check_rgb_work
+    from ..pipeline.budget import check_rgb_work
     from ..vector.budget import check_work
 
     checks = {"rgb": lambda: check_rgb_work(scene, _rgb_samples()), "quantisation": lambda: check_rgb_work(scene, 1)}

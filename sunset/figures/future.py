@@ -59,7 +59,7 @@ def clouds_rgb_figure(path, scene: Scene, t: float = 0.0) -> Path:
     """Write ``clouds-rgb.png``: the cloudy scene from the RGB back end at both :data:`CLOUD_HOURS`."""
     from . import shared
     from .paper import png_metadata
-    from ..light.budget import check_rgb_work
+    from ..pipeline.budget import check_rgb_work
     from ..light.geometry import Geometry
     from ..light.lighting import Lighting
     from ..light.output import to_uint8

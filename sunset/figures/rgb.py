@@ -66,7 +66,8 @@ def rgb_figure6(path, scene, hours: float = SUNSET_HOURS, seed: int = 0, t: floa
                 samples: int = RGB_SAMPLES) -> Path:
     """Write the paint-by-numbers Figure 6 and the RGB one side by side (a white gap between)."""
     from ..light.output import to_uint8
-    from ..light.render import check_samples, shade_display, trace_geometry
+    from ..light.render import check_samples, shade_display
+    from ..pipeline.rgb import trace_geometry
     from . import shared
 
     path = check_writable(path)

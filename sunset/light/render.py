@@ -1,4 +1,7 @@
-"""The RGB back end end to end: trace (with supersampling), keep the geometry, shade, filter, tone-map.
+"""The RGB back end's shading: a frame's geometry shaded, box-filtered and tone-mapped.
+
+The rays are traced by the pipeline (:func:`sunset.pipeline.rgb.trace_geometry`,
+:func:`sunset.pipeline.rgb.render_rgb`), at ``samples`` = k² per pixel.
 
 Supersampling pattern
 ---------------------
@@ -18,14 +21,14 @@ import math
 
 import numpy as np
 
-from ..errors import SunsetError, require_finite, require_int_range
+from ..errors import SunsetError, require_int_range
 from .geometry import Geometry
 from .lighting import Lighting
 from .shade import shade
 from .tone import display_filtered, scene_linear
 
-__all__ = ["MAX_SAMPLES", "check_samples", "supersampled", "trace_geometry", "shade_display", "render_rgb", "frame_light",
-           "box_filter", "shade_scene_linear"]
+__all__ = ["MAX_SAMPLES", "check_samples", "supersampled", "shade_display", "frame_light", "box_filter",
+           "shade_scene_linear"]
 
 #: Most samples per pixel (a 16 × 16 grid).
 MAX_SAMPLES = 256
@@ -44,18 +47,6 @@ def supersampled(scene, k: int):
     """The scene with its picture k times wider and taller (same window, σ in sub-pixels)."""
     cam = scene.camera
     return scene.with_size(cam.width * k, cam.height * k)
-
-
-def trace_geometry(scene, t: float = 0.0, reflections: int = 2, samples: int = 1) -> Geometry:
-    """The vector stage at ``samples`` rays per pixel, kept as a :class:`Geometry` (of the k× finer raster)."""
-    from ..vector.render import render
-
-    from .budget import check_rgb_work
-
-    k = check_samples(samples)
-    require_finite("t", t)
-    check_rgb_work(scene, samples)                    # before the picture is supersampled (sunset.light.budget)
-    return Geometry.from_frame(render(supersampled(scene, k) if k > 1 else scene, float(t), reflections))
 
 
 def box_filter(image: np.ndarray, k: int) -> np.ndarray:
@@ -78,17 +69,6 @@ def shade_display(geometry: Geometry, light: Lighting, k: int = 1) -> np.ndarray
 def shade_scene_linear(geometry: Geometry, light: Lighting, k: int = 1) -> np.ndarray:
     """Exposed scene-referred linear sRGB (H, W, 3) float32: radiance box-filtered k × k, no response curve."""
     return scene_linear(box_filter(shade(geometry, light), k), light.scale).astype(np.float32)
-
-
-def render_rgb(scene, t: float = 0.0, hours: float = 0.35, samples: int = 1, reflections: int = 2) -> np.ndarray:
-    """Linear display RGB (H, W, 3) float64 in [0, 1] of ``scene`` at time ``t``, ``hours`` before sunset.
-
-    Encode with :func:`sunset.light.tone.encode_srgb` for an image.
-    """
-    k = check_samples(samples)
-    require_finite("hours", hours)
-    geometry = trace_geometry(scene, t, reflections, samples)
-    return shade_display(geometry, frame_light(scene, t, hours), k)
 
 
 def frame_light(scene, t: float, hours: float, shore: bool = False) -> Lighting:

@@ -30,50 +30,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import SunsetError, require_finite, require_int_range, require_nonnegative
+from ..errors import SunsetError, require_finite, require_int_range
+from .stokes_amplitudes import _check_alpha, stokes_coefficients
 from .stokes_exact import solve_stokes
 
 __all__ = ["stokes_coefficients", "series_speed", "series_crest_curvature", "ExpansionFit", "expansion_fit"]
 
 
 # --------------------------------------------------------------------------- the paper's expansion
-def _check_alpha(alpha) -> np.ndarray:
-    require_nonnegative("alpha", alpha)
-    return np.asarray(alpha, dtype=float)
-
-
-def stokes_coefficients(alpha, order: int = 4) -> np.ndarray:
-    """The paper's Stokes amplitudes k·a_n, n = 1..order (paper, after eq. 2).
-
-    Parameters
-    ----------
-    alpha : float or array_like
-        α = k·a₁, the maximum slope of the first harmonic (dimensionless).
-    order : int
-        Highest power of α kept, 1 to 4. Each a_n is truncated at α^order,
-        so order 2 gives a₂ = α²/2 /k without the α⁴ term.
-
-    Returns
-    -------
-    ndarray, shape ``np.shape(alpha) + (order,)``
-        k·a_n for n = 1..order (dimensionless): α, α²/2 + 17α⁴/24, 3α³/8, α⁴/3,
-        truncated at ``order``. With α the amplitude of the exact wave's first
-        Fourier harmonic, these are the exact wave's coefficients to O(α⁵)
-        (checked against :func:`solve_stokes` by :func:`expansion_fit`).
-    """
-    require_int_range("order", order, 1, 4)
-    a = _check_alpha(alpha)
-    out = np.zeros(a.shape + (order,))
-    out[..., 0] = a
-    if order >= 2:
-        out[..., 1] = a**2 / 2 + (17.0 / 24.0 * a**4 if order >= 4 else 0.0)
-    if order >= 3:
-        out[..., 2] = 3.0 / 8.0 * a**3
-    if order >= 4:
-        out[..., 3] = a**4 / 3.0
-    return out
-
-
 def series_speed(alpha, order: int = 4) -> np.ndarray:
     """Phase speed c/√(g/k) of Stokes' expansion to ``order`` in α = k·a₁.
 

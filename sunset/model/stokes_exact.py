@@ -301,7 +301,7 @@ class StokesWave:
 
     def series_profile(self, kx, order: int = 4) -> np.ndarray:
         """Elevation of the paper's truncated series with this wave's α, at k x."""
-        from .stokes import stokes_coefficients  # the expansion's module checks itself against this one
+        from .stokes_amplitudes import stokes_coefficients
 
         require_finite("kx", kx)
         amps = stokes_coefficients(self.alpha, order)

@@ -6,7 +6,8 @@ import pytest
 from sunset.constants import CLOUD, POST, SKY
 from sunset.light.geometry import Geometry
 from sunset.light.lighting import Lighting
-from sunset.light.render import frame_light, trace_geometry
+from sunset.light.render import frame_light
+from sunset.pipeline.rgb import trace_geometry
 from sunset.light.ripples import ripple_source, texture_lookup
 from sunset.light.shade import shade
 from sunset.model.clouds import cloud_radiance

@@ -13,7 +13,8 @@ from sunset.model.sky import direct_irradiance, island_lighting, sky_radiance, s
 from sunset.light import water
 from sunset.light.geometry import Geometry
 from sunset.light.lighting import Lighting
-from sunset.light.render import render_rgb, shade_display, trace_geometry
+from sunset.light.render import shade_display
+from sunset.pipeline.rgb import render_rgb, trace_geometry
 from sunset.light.shade import shade
 from sunset.model.scene import Scene
 from ..agree import assert_geometry_agrees

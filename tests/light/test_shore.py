@@ -9,7 +9,8 @@ import pytest
 
 from sunset.errors import SunsetError
 from sunset.light.fresnel import reflectance
-from sunset.light.render import frame_light, trace_geometry
+from sunset.light.render import frame_light
+from sunset.pipeline.rgb import trace_geometry
 from sunset.light.shade import shade
 from sunset.light.shore import radius_at, shore_lookup, smooth_surface, texel_areas, trace_shore, water_line
 from sunset.model.islands import Island, Paraboloid

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from sunset.light.film import film_frames, trace_cycle
 from sunset.light.output import to_uint8
-from sunset.light.render import frame_light, shade_display, trace_geometry
+from sunset.light.render import frame_light, shade_display
 from sunset.model.scene import load_named_scene
+from sunset.pipeline.rgb import film_frames, trace_cycle, trace_geometry
 from sunset.recorder.film import cycle_times, film_hours
 
 
@@ -57,13 +57,13 @@ def test_a_film_at_one_hour_computes_each_light_once(cycle, monkeypatch):
 
 def test_no_more_film_workers_than_the_memory_budget_allows(cycle, monkeypatch):
     import sunset.constants as constants
-    from sunset.light.film import _workers_within_budget
+    from sunset.pipeline.budget import workers_within_budget
 
     _, _, geometries, _ = cycle
-    assert _workers_within_budget(2, geometries) == 2
+    assert workers_within_budget(2, geometries) == 2
     kept = sum(g.nbytes for g in geometries)
     monkeypatch.setattr(constants, "MAX_FRAME_BYTES", kept + constants.RGB_LIGHT_BYTES + 10**6)
-    assert _workers_within_budget(4, geometries) == 1
+    assert workers_within_budget(4, geometries) == 1
 
 
 def test_a_film_of_posts_runs_past_sunset(cycle):

@@ -24,10 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import SKY
-from .geometry import Geometry
-from .lighting import Lighting
-from .render import check_samples, shade_display, supersampled
-from .tone import encode_srgb
+from ..light.geometry import Geometry
+from ..light.lighting import Lighting
+from ..light.render import check_samples, shade_display, supersampled
+from ..light.tone import encode_srgb
 
 __all__ = ["REFERENCE_SAMPLES", "AAResult", "edge_masks", "aa_errors"]
 

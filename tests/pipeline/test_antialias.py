@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from sunset.errors import SunsetError
-from sunset.light.antialias import aa_errors
-from sunset.light.render import box_filter, check_samples, render_rgb
+from sunset.light.render import box_filter, check_samples
+from sunset.pipeline.antialias import aa_errors
+from sunset.pipeline.rgb import render_rgb
 from sunset.model.scene import Scene
 
 
