@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import argparse
 import base64
-import io
 import json
 import os
 import re
@@ -96,7 +95,7 @@ def run_chapter(chapter: Path, workdir: Path) -> float:
 
 NOTEBOOK_CELLS = [
     "import sunset\nex = sunset.explore()\nex",
-    "ex.wait()\nex.save('after.toml')\nprint('SERIAL', ex.serial, 'ERROR', repr(ex.error))",
+    "ex.wait()\nex.save_scene('after.toml')\nprint('SERIAL', ex.serial, 'ERROR', repr(ex.error))",
 ]
 
 
@@ -144,19 +143,21 @@ def stop_server(proc: subprocess.Popen) -> None:
 
 
 def shown_picture(page):
-    """The PNG the page's explorer shows (fetched from its blob URL) as an RGB array, and its serial."""
+    """The pixels the page's explorer shows (its canvas, read back) as an RGB array, and its serial."""
     import numpy as np
-    from PIL import Image
 
-    got = page.evaluate("""async () => {
-        const img = document.querySelector("img.sunset-explorer-picture");
-        const bytes = new Uint8Array(await (await fetch(img.src)).arrayBuffer());
+    got = page.evaluate("""() => {
+        const canvas = document.querySelector("canvas.sunset-explorer-picture");
+        const bytes = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
         let s = "";
         for (let i = 0; i < bytes.length; i += 0x8000) s += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
-        return {png: btoa(s), serial: Number(img.dataset.serial), natural: [img.naturalWidth, img.naturalHeight]};
+        return {rgba: btoa(s), serial: Number(canvas.dataset.serial), size: [canvas.width, canvas.height]};
     }""")
-    rgb = np.asarray(Image.open(io.BytesIO(base64.b64decode(got["png"]))).convert("RGB"))
-    return rgb, got["serial"], got["natural"]
+    w, h = got["size"]
+    rgba = np.frombuffer(base64.b64decode(got["rgba"]), dtype=np.uint8).reshape(h, w, 4)
+    if np.any(rgba[..., 3] != 255):
+        raise CheckFailed("the canvas has pixels that are not opaque")
+    return rgba[..., :3], got["serial"], got["size"]
 
 
 def differences(got, want) -> str:
@@ -246,8 +247,8 @@ def check_browser(exe: str, root: Path, port: int, token: str, screenshot: Path 
             began = time.perf_counter()
             run_cell(page, 0)
             page.wait_for_function("""() => {
-                const img = document.querySelector("img.sunset-explorer-picture");
-                return img && img.dataset.serial === "1" && img.complete && img.naturalWidth > 0;
+                const canvas = document.querySelector("canvas.sunset-explorer-picture");
+                return canvas && canvas.dataset.serial === "1" && canvas.width > 0;
             }""")
             report["first_picture_s"] = round(time.perf_counter() - began, 1)
             first, serial, natural = shown_picture(page)
@@ -276,8 +277,8 @@ def check_browser(exe: str, root: Path, port: int, token: str, screenshot: Path 
             if "ERROR" in words and words[words.index("ERROR") + 1] != "''":
                 raise CheckFailed(f"the explorer refused the dragged setting: {out.inner_text()!r}")
             page.wait_for_function(f"""() => {{
-                const img = document.querySelector("img.sunset-explorer-picture");
-                return img.dataset.serial === "{serial_now}" && img.complete;
+                const canvas = document.querySelector("canvas.sunset-explorer-picture");
+                return canvas.dataset.serial === "{serial_now}";
             }}""")
             after, serial, _ = shown_picture(page)
             report["renders_after_drag"] = serial_now - 1
@@ -297,9 +298,9 @@ def check_browser(exe: str, root: Path, port: int, token: str, screenshot: Path 
                                   + differences(after, expected))
 
             # the code under the pointer
-            img = page.locator("img.sunset-explorer-picture").bounding_box()
+            box = page.locator("canvas.sunset-explorer-picture").bounding_box()
             col, row = 100, 400
-            page.mouse.move(img["x"] + (col + 0.5) * img["width"] / SIZE, img["y"] + (row + 0.5) * img["height"] / SIZE)
+            page.mouse.move(box["x"] + (col + 0.5) * box["width"] / SIZE, box["y"] + (row + 0.5) * box["height"] / SIZE)
             readout_box = page.locator("pre.sunset-explorer-readout")
             readout_box.filter(has_text=f"pixel ({col}, {row})").wait_for()
             start = Start.of(scene, size=(SIZE, SIZE), hours=settings["hours"], t=settings["t"],

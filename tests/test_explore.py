@@ -61,9 +61,8 @@ def test_it_opens_on_carlas_island_at_512_squared():
         assert ex.picture.rgb.shape == (512, 512, 3)
         assert np.array_equal(ex.picture.rgb, sunset.picture("carlas-island", t=0.0, hours=0.35, size=(512, 512)))
         assert (ex.image.width, ex.image.height, ex.serial, ex.image.serial) == (512, 512, 1, 1)
-        assert ex.image.png.startswith(b"\x89PNG")
-        shown = np.asarray(Image.open(__import__("io").BytesIO(ex.image.png)).convert("RGB"))
-        assert np.array_equal(shown, ex.picture.rgb)
+        shown = np.frombuffer(ex.image.rgba, dtype=np.uint8).reshape(512, 512, 4)
+        assert np.array_equal(shown[..., :3], ex.picture.rgb) and np.all(shown[..., 3] == 255)
     finally:
         ex.close()
 
@@ -120,7 +119,7 @@ def test_saved_scene_renders_the_same_picture_from_the_command_line(explorer, tm
     c["pitch"].value = -4.0
     c["reflections"].value = 1
     c["shading"].value = shading
-    path = explorer.save(tmp_path / "my explored.toml")
+    path = explorer.save_scene(tmp_path / "my explored.toml")
     pic = explorer.picture
     argv = saved_command(path)
     assert argv[:2] == ["render", "my explored.toml"]
@@ -136,7 +135,7 @@ def test_saved_scene_renders_the_same_picture_from_the_command_line(explorer, tm
 
 def test_saved_scene_is_accepted_by_film_and_player(explorer, tmp_path, monkeypatch):
     explorer.controls["trains[2].amplitude"].value = 0.2
-    path = explorer.save(tmp_path / "s.toml")
+    path = explorer.save_scene(tmp_path / "s.toml")
     monkeypatch.chdir(tmp_path)
     assert main(["player", "s.toml", "-o", "p.html", "--frames", "2", "--size", "16x16", "--quiet"]) == 0
     assert main(["film", "s.toml", "-o", "f.mp4", "--frames", "2", "--size", "16x16", "--from-hours", "0.5",
@@ -145,13 +144,13 @@ def test_saved_scene_is_accepted_by_film_and_player(explorer, tmp_path, monkeypa
 
 
 def test_a_refused_setting_shows_its_line_and_the_last_picture_stays(explorer):
-    good, png = explorer.picture, explorer.image.png
+    good, shown = explorer.picture, explorer.image.rgba
     explorer.controls["trains[3].amplitude"].value = 0.9          # too steep for a 2.5 m wave
     assert explorer.wait(120)
     line = "sea.trains[3].amplitude must be at most wavelength/2π = 0.3979 m (a first-harmonic slope k·a of 1), got 0.9"
     assert explorer.error == line
     assert line in explorer.status.value and "\n" not in explorer.status.value
-    assert explorer.picture is good and explorer.image.png == png and explorer.serial == 1
+    assert explorer.picture is good and explorer.image.rgba == shown and explorer.serial == 1
     explorer.controls["heading"].value = 90.0                     # the west island behind the eye
     assert explorer.wait(120)
     assert explorer.error.startswith("sea.trains[3].amplitude")   # the steep train is still refused first
@@ -260,3 +259,32 @@ def test_a_slider_echoing_its_first_value_on_its_grid_changes_nothing(explorer):
     explorer.controls["pitch"].value = -30.0 + 232 * 0.1
     assert explorer.wait(60) and explorer.serial == 3
     assert explorer.picture.view.pitch == -6.8 and np.array_equal(explorer.picture.rgb, first.rgb)
+
+
+def test_the_save_button_writes_the_file_named_in_its_box(explorer, tmp_path):
+    explorer.controls["hours"].value = 1.5
+    explorer.file.value = str(tmp_path / "button.toml")
+    explorer.save_button.click()
+    assert explorer.saved.value == f"saved {tmp_path / 'button.toml'}"
+    assert sunset.Scene.from_toml(tmp_path / "button.toml") == explorer.picture.scene
+    assert "--hours=1.5 " in (tmp_path / "button.toml").read_text(encoding="utf-8")
+    explorer.file.value = str(tmp_path / "no such folder" / "x.toml")
+    explorer.save_button.click()
+    assert "no such folder" in explorer.saved.value and "\n" not in explorer.saved.value
+    assert not (tmp_path / "no such folder").exists()
+
+
+def test_what_the_renderer_keeps_between_views_gives_the_bytes_of_a_fresh_render():
+    """The kept codes, islands' pass, still part of the cycle, frame and geometry, each reused, against sunset.picture."""
+    start = Start.of("post-in-the-swell", size=SIZE)
+    renderer = Renderer(start)
+    v = start.view
+    steps = [v, replace(v, t=0.4), replace(v, t=0.8), replace(v, t=1.2),            # the cycle's still part
+             replace(v, t=1.2, azimuth=-5.0), replace(v, t=1.2, azimuth=-9.0),      # the frame, the sun moved
+             replace(v, t=1.2, azimuth=-9.0, hours=2.0),                            # the codes, re-exposed
+             replace(v, t=1.2, heading=4.0), replace(v, t=1.6, heading=4.0),
+             replace(v, shading="rgb"), replace(v, shading="rgb", azimuth=3.0),     # the geometry, the sun moved
+             replace(v, shading="rgb", azimuth=3.0, hours=1.0), replace(v, shading="rgb", t=0.9), replace(v, t=0.4)]
+    for view in steps:
+        pic = renderer(view)
+        assert np.array_equal(pic.rgb, expected(scene_for(start, view), view)), view

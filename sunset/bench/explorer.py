@@ -2,8 +2,8 @@
 
 An update is what the explorer's render thread does when a control moves:
 the view's scene (:func:`~sunset.explorer.settings.scene_for`), its picture
-(:class:`~sunset.explorer.picture.Renderer`) and the PNG sent to the screen
-(:func:`~sunset.explorer.picture.png_for_screen`). Every timed update moves
+(:class:`~sunset.explorer.picture.Renderer`) and the bytes sent to the
+screen (:func:`~sunset.explorer.picture.rgba_for_screen`). Every timed update moves
 its slider to a value not rendered before, so no frame is reused where the
 explorer would not reuse it: the time and the sun's azimuth trace and code a
 new frame (the 8-bit path's whole pipeline), the hours re-expose the frame's
@@ -24,7 +24,7 @@ EXPLORER_SIZE = (512, 512)
 
 def measure_explorer(width: int, height: int, repeats: int) -> dict:
     """Seconds per update of Carla's Island at ``width`` × ``height`` for each kind of slider (after a warm-up)."""
-    from ..explorer.picture import Renderer, png_for_screen
+    from ..explorer.picture import Renderer, rgba_for_screen
     from ..explorer.settings import Start
     from ..kernels import keep_freed_memory
 
@@ -35,7 +35,7 @@ def measure_explorer(width: int, height: int, repeats: int) -> dict:
     count = [0]
 
     def update(**change) -> None:
-        png_for_screen(renderer(replace(view, **change)).rgb)
+        rgba_for_screen(renderer(replace(view, **change)).rgb)
 
     def moved(name: str, first: float, step: float, **fixed):
         def once() -> None:

@@ -48,7 +48,7 @@ def explore(scene: SceneLike = "carlas-island", size: tuple[int, int] = (512, 51
     -------
     Explorer
         An ipywidgets box: show it in a notebook (the last expression of a
-        cell). Its ``controls``, ``picture``, ``error``, ``wait()``, ``save()``
+        cell). Its ``controls``, ``picture``, ``error``, ``wait()``, ``save_scene()``
         and ``readout()`` drive it from Python too.
     """
     from ..errors import SunsetError

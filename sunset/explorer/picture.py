@@ -3,9 +3,13 @@
 A picture of the 8-bit path is what :func:`sunset.picture` makes of the
 view's scene (``code_frame`` then ``expose``: the same bytes), and one of
 the RGB back end what ``sunset render --shading rgb`` writes (one sample per
-pixel). The renderer keeps the last frame's codes (or the RGB back end's
-traced geometry): a view that changes only the hour is exposed (shaded)
-again without tracing a ray, as the film recorder re-exposes a tape.
+pixel). The renderer keeps what the next view may share: the last codes
+(a view that changes only the hour is exposed again without tracing a ray,
+as the film recorder re-exposes a tape), the islands' pass and the still
+part of a wave cycle (the time slider traces only the sea), the last traced
+frame or the RGB back end's geometry (the vector stage never looks at the
+sun: a view that moves only the sun is coded or shaded again). Every picture
+is the same bytes as one rendered afresh.
 
 :func:`readout` says what a pixel's code means, as the colour-table player's
 inspector does (:func:`sunset.recorder.player.code_meanings`), and
@@ -16,7 +20,6 @@ command that renders the same picture from it, byte for byte.
 from __future__ import annotations
 
 import functools
-import io
 import shlex
 import time
 from dataclasses import dataclass
@@ -28,7 +31,7 @@ from ..errors import SunsetError, require_int_range
 from ..model.scene import Scene
 from .settings import Start, View, scene_for
 
-__all__ = ["Picture", "Renderer", "readout", "scene_text", "png_for_screen"]
+__all__ = ["Picture", "Renderer", "readout", "scene_text", "rgba_for_screen"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,6 +56,7 @@ class Renderer:
         self._still = None
         self._islands = None
         self._last_still_key = None
+        self._frame = None
 
     def __call__(self, view: View) -> Picture:
         """The picture of ``view``; raises :class:`~sunset.SunsetError` for a setting the scene refuses."""
@@ -60,13 +64,10 @@ class Renderer:
         scene = scene_for(self.start, view)
         if view.shading == "codes":
             from ..recorder.dicomed import expose
-            from ..tape.cycle import code_frame
 
             key = (scene, float(view.t), view.reflections, view.seed)
             if key != self._key:
-                shared = self._still_part(scene, view.seed)
-                codes = code_frame(scene, float(view.t), view.reflections, view.seed, shared)
-                self._key, self._codes = key, codes
+                self._key, self._codes = key, self._code(scene, float(view.t), view.reflections, view.seed)
             rgb = expose(scene, self._codes, view.hours)
             codes = self._codes
         else:
@@ -74,15 +75,35 @@ class Renderer:
             from ..light.render import frame_light, shade_display
             from ..pipeline.rgb import trace_geometry
 
-            key = (scene, float(view.t), view.reflections, "rgb")
+            key = (_sunless(scene), float(view.t), view.reflections, "rgb")
             if key != self._key:
-                geometry = trace_geometry(scene, float(view.t), view.reflections, 1)
-                self._key, self._geometry = key, geometry
-            # what render_rgb does, the geometry traced once for every hour
+                self._key, self._geometry = key, trace_geometry(scene, float(view.t), view.reflections, 1)
+            # what render_rgb does, the geometry traced once for every hour and every place of the sun
             rgb = to_uint8(shade_display(self._geometry, frame_light(scene, float(view.t), view.hours), 1))
             codes = None
         return Picture(scene, view, rgb, codes, time.perf_counter() - began)
 
+    def _code(self, scene: Scene, t: float, reflections: int, seed: int) -> np.ndarray:
+        """The 8-bit codes of ``scene`` at ``t``: :func:`sunset.tape.cycle.code_frame`'s bytes, made from what is kept.
+
+        With the still part of the wave cycle (:meth:`_still_part`) only the
+        sea is traced and coded. Otherwise the frame is traced (or, when only
+        the sun moved, the last frame taken again: the vector stage never looks
+        at the sun) and coded, as ``code_frame`` does.
+        """
+        from ..tape.codes import encode
+        from ..tape.cycle import code_frame
+        from ..tape.still import CyclePass
+        from ..vector.render import render
+
+        shared = self._still_part(scene, seed)
+        if isinstance(shared, CyclePass) and scene.clouds is None and not scene.posts:
+            return code_frame(scene, t, reflections, seed, shared)
+        islands = shared.islands if isinstance(shared, CyclePass) else shared
+        key = (_sunless(scene), t, reflections)
+        if self._frame is None or self._frame[0] != key:
+            self._frame = (key, render(scene, t, reflections, islands=islands, sea_bounces=False))
+        return encode(scene, self._frame[1], seed=seed)
 
     def _still_part(self, scene: Scene, seed: int):
         """What this frame can share with the last ones: a :class:`~sunset.tape.still.CyclePass`, or the islands' pass.
@@ -110,13 +131,26 @@ class Renderer:
         return self._islands[1]
 
 
-def png_for_screen(rgb: np.ndarray) -> bytes:
-    """The picture as a PNG for the widget: lossless, quick (zlib level 1), no text chunks."""
-    from PIL import Image
+def _sunless(scene: Scene) -> Scene:
+    """``scene`` with a standard sun: what the vector stage sees of it (it traces no ray toward the sun)."""
+    from dataclasses import replace
 
-    buf = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(rgb)).save(buf, format="PNG", compress_level=1)
-    return buf.getvalue()
+    from ..model.sun import Sun
+
+    return replace(scene, sun=Sun())
+
+
+def rgba_for_screen(rgb: np.ndarray) -> bytes:
+    """The picture as the widget's canvas takes it: rows of RGBA bytes, alpha 255 (``ImageData``'s layout).
+
+    No image file is made: an encoder would cost a third of an update (Pillow's
+    PNG at 512 × 512), and the bytes go straight into the canvas, unchanged.
+    """
+    height, width = rgb.shape[:2]
+    out = np.empty((height, width, 4), dtype=np.uint8)
+    out[..., :3] = rgb
+    out[..., 3] = 255
+    return out.tobytes()
 
 
 @functools.lru_cache(maxsize=4)

@@ -23,7 +23,7 @@ import traitlets
 
 from ..constants import MIN_WAVELENGTH
 from ..errors import SunsetError
-from .picture import Picture, Renderer, png_for_screen, readout, scene_text
+from .picture import Picture, Renderer, readout, rgba_for_screen, scene_text
 from .settings import Start, TrainControl, View
 from .worker import Latest
 
@@ -36,10 +36,14 @@ SNAP = 1e-9
 
 
 class PictureView(anywidget.AnyWidget):
-    """The picture, and the pixel under the pointer: ``pointer`` is [col, row] (or [] off the picture)."""
+    """The picture (``rgba``: rows of RGBA bytes, ``width`` × ``height``), and the pixel under the pointer.
+
+    ``pointer`` is [col, row] (or [] off the picture); ``readout`` what Python
+    says of it; ``serial`` which picture is shown (counted from 1).
+    """
 
     _esm = resources.files("sunset.explorer").joinpath("picture.js").read_text(encoding="utf-8")
-    png = traitlets.Bytes(b"").tag(sync=True)
+    rgba = traitlets.Bytes(b"").tag(sync=True)
     width = traitlets.Int(512).tag(sync=True)
     height = traitlets.Int(512).tag(sync=True)
     serial = traitlets.Int(0).tag(sync=True)
@@ -81,7 +85,7 @@ class Explorer(w.HBox):
         sea = start.scene.sea
         period = sea.period
         c = {
-            "hours": _slider("hours before sunset", v.hours, -1.0, 6.0, 0.01),
+            "hours": _slider("hours to sunset", v.hours, -1.0, 6.0, 0.01),
             "t": _slider("time (s)", v.t, 0.0, period if period else 60.0, 0.01),
             "azimuth": _slider("sun's azimuth (°)", v.azimuth, -45.0, 45.0, 0.1, ".1f"),
         }
@@ -165,10 +169,10 @@ class Explorer(w.HBox):
         self.error = ""
         self.picture = picture
         self._serial += 1
-        png = png_for_screen(picture.rgb)
+        rgba = rgba_for_screen(picture.rgb)
         shading = "8-bit codes" if view.shading == "codes" else "RGB"
         with self.image.hold_sync():
-            self.image.png = png
+            self.image.rgba = rgba
             self.image.serial = self._serial
         self.status.value = (f'<span class="sunset-explorer-ok">rendered in {picture.seconds:.3f} s '
                              f"({shading}, {picture.rgb.shape[1]}×{picture.rgb.shape[0]})</span>")
@@ -195,7 +199,7 @@ class Explorer(w.HBox):
             raise SunsetError("no picture yet: wait() for the first render")
         return readout(self.picture, col, row)
 
-    def save(self, path: str | os.PathLike) -> Path:
+    def save_scene(self, path: str | os.PathLike) -> Path:
         """Write the picture's settings as a scene TOML file (atomically); its comment gives the render command.
 
         ``sunset render`` with that command draws the picture shown, byte
@@ -212,7 +216,7 @@ class Explorer(w.HBox):
 
     def _save_clicked(self) -> None:
         try:
-            path = self.save(self.file.value)
+            path = self.save_scene(self.file.value)
         except (SunsetError, OSError) as exc:
             self.saved.value = f'<span style="color: #b00020">{html.escape(str(exc))}</span>'
         else:
