@@ -37,7 +37,8 @@ def test_json_holds_every_measurement(report):
     assert "Figure 6 frame 36x30, NumPy's SIMD off" in whats
     assert "2-frame cycle 24x20" in whats
     explorer = {r["stage"] for r in data["rows"] if r["what"] == "explorer update 32x24"}
-    assert explorer == {"time (8-bit)", "sun's azimuth (8-bit)", "hours (8-bit)", "time (RGB)"}
+    assert explorer == {"time (8-bit)", "sun's azimuth (8-bit)", "hours (8-bit)", "wave amplitude (8-bit)",
+                        "heading (8-bit)", "time (RGB)"}
     frame = {r["stage"]: r for r in data["rows"] if r["what"] == "Figure 6 frame 36x30"}
     assert set(bench.STAGES) | {"vector stage", "total", "cpu time"} == set(frame)
     cycle = {r["stage"] for r in data["rows"] if r["what"] == "2-frame cycle 24x20"}

@@ -7,7 +7,10 @@ screen (:func:`~sunset.explorer.picture.rgba_for_screen`). Every timed update mo
 its slider to a value not rendered before, so no frame is reused where the
 explorer would not reuse it: the time and the sun's azimuth trace and code a
 new frame (the 8-bit path's whole pipeline), the hours re-expose the frame's
-codes, and RGB shading traces and shades a new frame.
+codes, a wave train's amplitude traces the sea anew (the islands' pass kept),
+the heading (the slowest 8-bit update) turns the whole world and the sun
+about the eye (the islands' pass, the frame, its codes and the colour tables
+all made anew), and RGB shading traces and shades a new frame.
 """
 
 from __future__ import annotations
@@ -49,5 +52,15 @@ def measure_explorer(width: int, height: int, repeats: int) -> dict:
     count[0] = 0
     update(t=0.5)                                       # the frame whose codes the hours slider re-exposes
     rows["hours (8-bit)"] = timed(moved("hours", view.hours, 0.01, t=0.5), repeats)
+    count[0] = 0
+    first = view.trains[0]
+
+    def amplitude() -> None:
+        count[0] += 1
+        update(trains=(replace(first, amplitude=first.amplitude * (1.0 - 0.01 * count[0])), *view.trains[1:]))
+
+    rows["wave amplitude (8-bit)"] = timed(amplitude, repeats)
+    count[0] = 0
+    rows["heading (8-bit)"] = timed(moved("heading", 0.0, 0.5), repeats)
     rows["time (RGB)"] = timed(moved("t", 0.0, period / 89.0, shading="rgb"), repeats)
     return rows
