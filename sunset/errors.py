@@ -73,23 +73,28 @@ def real_array(name: str, value: Any) -> np.ndarray:
     refused with one line naming ``name``; NaN and infinities are not
     checked here (see :func:`require_finite`).
     """
-    bad = SunsetError(f"{name} must be a number (or an array of numbers), got {shown(value)}")
+    if isinstance(value, np.ndarray) and value.dtype.kind in "iuf":     # the common case, at once
+        return value.astype(float, copy=False)
+
+    def bad():                              # made only when refused: the repr of a large array is slow
+        return SunsetError(f"{name} must be a number (or an array of numbers), got {shown(value)}")
+
     if isinstance(value, _NOT_NUMBERS):
-        raise bad
+        raise bad()
     try:
         arr = np.asarray(value)
     except (ValueError, TypeError, OverflowError, RecursionError):
-        raise bad from None
+        raise bad() from None
     if arr.dtype.kind == "O":               # Fractions, integers beyond 64 bits, or anything at all
         flat = arr.ravel().tolist()
         if any(isinstance(v, _NOT_NUMBERS) or not hasattr(v, "__float__") for v in flat):
-            raise bad
+            raise bad()
         try:
             arr = np.array([float(v) for v in flat], dtype=float).reshape(arr.shape)
         except (OverflowError, TypeError, ValueError):
             raise SunsetError(f"{name} must be a finite number, got {shown(value)}") from None
     elif arr.dtype.kind not in "iuf":
-        raise bad
+        raise bad()
     return arr.astype(float, copy=False)
 
 
