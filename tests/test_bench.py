@@ -39,6 +39,10 @@ def test_json_holds_every_measurement(report):
     explorer = {r["stage"] for r in data["rows"] if r["what"] == "explorer update 32x24"}
     assert explorer == {"time (8-bit)", "sun's azimuth (8-bit)", "hours (8-bit)", "wave amplitude (8-bit)",
                         "heading (8-bit)", "time (RGB)"}
+    for r in data["rows"]:
+        if r["what"] == "explorer update 32x24":         # every update's CPU seconds beside its wall clock
+            assert len(r["runs_cpu_s"]) == len(r["runs_s"]) == rep["repeats"]
+            assert r["median_cpu_s"] == statistics.median(r["runs_cpu_s"]) > 0
     frame = {r["stage"]: r for r in data["rows"] if r["what"] == "Figure 6 frame 36x30"}
     assert set(bench.STAGES) | {"vector stage", "total", "cpu time"} == set(frame)
     cycle = {r["stage"] for r in data["rows"] if r["what"] == "2-frame cycle 24x20"}

@@ -304,8 +304,10 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         w, h = explorer_size
         log(f"the explorer's updates at {w}x{h} ...")
         res = measure("explorer", w, h, repeats)
+        cpu = res["times"].pop("cpu")
         for stage, times in res["times"].items():
-            rows.append(_row(f"explorer update {w}x{h}", stage, times, w * h, res))
+            rows.append({**_row(f"explorer update {w}x{h}", stage, times, w * h, res),
+                         "median_cpu_s": statistics.median(cpu[stage]), "runs_cpu_s": cpu[stage]})
     if cycle:
         w, h = cycle_size
         log(f"{cycle_frames}-frame wave cycle, coded and filmed, at {w}x{h} ...")
