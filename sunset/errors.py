@@ -77,7 +77,8 @@ def real_array(name: str, value: Any) -> np.ndarray:
         return value.astype(float, copy=False)
 
     def bad():                              # made only when refused: the repr of a large array is slow
-        return SunsetError(f"{name} must be a number (or an array of numbers), got {shown(value)}")
+        return SunsetError(f"{name} must be a number (or an array of numbers), got {shown(value)} "
+                           f"({type(value).__name__})")
 
     if isinstance(value, _NOT_NUMBERS):
         raise bad()

@@ -149,3 +149,14 @@ def test_counts_are_capped_by_the_usable_cpus(monkeypatch):
     assert kernels._default_threads() == 1
     monkeypatch.setenv("SUNSET_THREADS", " ")
     assert kernels._default_threads() == cpus             # blank: unset
+
+
+def test_the_bench_row_reports_each_case():
+    """The bench's "budget" row (sunset.bench.memory.measure_budget): each case on both paths, within the bound."""
+    from sunset.bench.memory import measure_budget
+
+    rows = measure_budget(cases=(("the sliver", "sliver", (48, 40), ()),))
+    assert [r["compiled"] for r in rows] == [True, False]
+    for r in rows:
+        assert r["rc"] == 0 and 0 < r["work"] <= RATIO * r["predicted"] and r["interpreter"] <= INTERPRETER_BYTES
+        assert r["ratio"] == r["work"] / r["predicted"]

@@ -50,6 +50,7 @@ from pathlib import Path
 from ..constants import CRAY1_SECONDS_FIGURE6
 from ..kernels import keep_freed_memory
 from . import extra
+from . import memory as memory_bench
 from .extra import timed
 from . import explorer as explorer_bench
 from . import ocean as ocean_bench
@@ -175,7 +176,7 @@ MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _meas
                 "scaling": _measure_scaling, "profile": _measure_profile, "rgb": rgb_bench.measure_rgb,
                 "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits,
                 "series": stokes_bench.measure_series, "explorer": explorer_bench.measure_explorer,
-                "ocean": ocean_bench.measure_ocean}
+                "ocean": ocean_bench.measure_ocean, "budget": lambda w, h, r: memory_bench.measure_budget()}
 
 
 def _child(args) -> None:
@@ -261,7 +262,7 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
                   numpy_reference: bool = True, scaling: bool = True, profile: bool = True,
                   rgb: bool = True, memory_sizes=extra.MEMORY_SIZES, film_look: bool = True,
                   povray: bool = True, series: bool = False, figures: bool = False,
-                  explorer_size=explorer_bench.EXPLORER_SIZE, ocean: bool = False) -> dict:
+                  explorer_size=explorer_bench.EXPLORER_SIZE, ocean: bool = False, budget: bool = True) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
@@ -331,6 +332,13 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
         memory.append(measure("memory", n, n, 1)["times"])
     report["memory"] = {"bound_bytes_per_pixel": extra.BYTES_PER_PIXEL_BOUND, "sizes": memory,
                         "ok": all(m["bytes_per_pixel"] <= extra.BYTES_PER_PIXEL_BOUND for m in memory)}
+    if budget:                       # the work budget's prediction against the peak, in fresh processes
+        log("the work budget: measured peaks against the predictions ...")
+        report["budget"] = memory_bench.measure_budget()
+        for b in report["budget"]:
+            path = "compiled" if b["compiled"] else "NumPy"
+            print(f"budget: {b['what']}, {path}: {b['work'] / 2**20:.1f} MiB of {b['predicted'] / 2**20:.1f} "
+                  f"predicted (x{b['ratio']:.2f}), interpreter {b['interpreter'] / 2**20:.0f} MiB")
     w, h = frame_sizes[-1]
     log(f"the floor under a {w}x{h} frame: memory bandwidth and cosine rate ...")
     report["limits"] = measure("limits", w, h, repeats)["times"]

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["measure_bytes_per_pixel", "measure_rgb_bytes", "measure_command_peak"]
+__all__ = ["measure_bytes_per_pixel", "measure_rgb_bytes", "measure_command_peak", "measure_budget", "budget_scene"]
 
 
 def measure_bytes_per_pixel(scene, sizes=((100, 80), (300, 240)), compiled: bool = False) -> float:
@@ -167,3 +167,51 @@ def _peak_child(argv) -> None:
         report = json.loads(fh.read() or b"{}")
     os.waitpid(pid, 0)
     print(json.dumps({"interpreter": interpreter, **report}))
+
+
+#: The bench's "budget" row: (what, scene, size, extra ``sunset render`` options), each on both kernel paths.
+BUDGET_CASES = (("the paper's frame", "carlas-island", (512, 512), ()),
+                ("the issue's sliver above the horizon", "sliver", (64, 64), ()),
+                ("a window 1e-6 tall across the horizon", "micro", (256, 256), ()),
+                ("clouds", "carlas-island-clouds", (512, 512), ()),
+                ("posts", "post-in-the-swell", (512, 512), ()),
+                ("RGB, 4 samples", "carlas-island", (256, 256), ("--shading", "rgb", "--samples", "4")))
+
+
+def budget_scene(name: str, size: tuple[int, int]):
+    """A scene of :data:`BUDGET_CASES`: a packaged one, or the default with a sliver of a window."""
+    from dataclasses import replace
+
+    from ..model.scene import as_scene
+
+    windows = {"sliver": (0.35, 0.35000002), "micro": (-5e-7, 5e-7)}
+    scene = as_scene("carlas-island" if name in windows else name).with_size(*size)
+    if name in windows:
+        lo, hi = windows[name]
+        scene = replace(scene, camera=replace(scene.camera, zy_min=lo, zy_max=hi))
+    return scene
+
+
+def measure_budget(cases=BUDGET_CASES) -> list[dict]:
+    """Each case's measured peak (:func:`measure_command_peak`) beside its prediction, compiled and NumPy.
+
+    Rows: ``what``, ``compiled``, ``interpreter`` and ``work`` (bytes measured), ``predicted`` (the
+    work's bytes: :func:`sunset.vector.budget.predict_work`, or :func:`sunset.light.budget.rgb_bytes`
+    for ``--shading rgb``), ``ratio`` (work / predicted) and ``seconds``.
+    """
+    from ..guard import usable_cpus
+    from ..light.budget import rgb_bytes
+    from ..vector.budget import predict_work
+
+    rows = []
+    for what, name, size, args in cases:
+        scene = budget_scene(name, size)
+        threads = usable_cpus()
+        predicted = (rgb_bytes(*size, int(args[-1])) if "rgb" in args
+                     else predict_work(scene, threads=threads).bytes)
+        for compiled in (True, False):
+            got = measure_command_peak(scene, args, compiled=compiled, threads=threads)
+            rows.append({"what": what, "size": list(size), "compiled": compiled, "rc": got["rc"],
+                         "interpreter": got["interpreter"], "work": got["work"], "predicted": predicted,
+                         "ratio": got["work"] / predicted, "seconds": got["seconds"], "threads": threads})
+    return rows
