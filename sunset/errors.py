@@ -61,6 +61,11 @@ def shown(value: Any) -> str:
     return text
 
 
+def typed(value: Any) -> str:
+    """``value`` as :func:`shown` shows it, with its type: ``6 (str)``, so that text is not read as a number."""
+    return f"{shown(value)} ({shown(type(value).__name__)})"
+
+
 #: What a number may not be, although NumPy would read it as one: text, a truth value, nothing.
 _NOT_NUMBERS = (str, bytes, bytearray, bool, np.bool_, type(None), complex, np.complexfloating)
 
@@ -77,8 +82,7 @@ def real_array(name: str, value: Any) -> np.ndarray:
         return value.astype(float, copy=False)
 
     def bad():                              # made only when refused: the repr of a large array is slow
-        return SunsetError(f"{name} must be a number (or an array of numbers), got {shown(value)} "
-                           f"({type(value).__name__})")
+        return SunsetError(f"{name} must be a number (or an array of numbers), got {typed(value)}")
 
     if isinstance(value, _NOT_NUMBERS):
         raise bad()
@@ -148,7 +152,7 @@ def require_length(name: str, value: Any, lo: float, hi: float, zero: bool = Fal
 def require_int_range(name: str, value: Any, lo: int, hi: int | None = None) -> None:
     """Raise :class:`SunsetError` unless ``value`` is an integer in [lo, hi]."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise SunsetError(f"{name} must be an integer, got {shown(value)}")
+        raise SunsetError(f"{name} must be an integer, got {typed(value)}")
     if value < lo or (hi is not None and value > hi):
         span = f">= {lo}" if hi is None else f"in {lo}..{hi}"
         raise SunsetError(f"{name} must be {span}, got {shown(value)}")
@@ -171,24 +175,24 @@ def require_range(name: str, value: Any, lo: float, hi: float, unit: str = "", l
 def require_bool(name: str, value: Any) -> None:
     """Raise :class:`SunsetError` unless ``value`` is True or False (not ``'no'``, not None, not 1)."""
     if not isinstance(value, (bool, np.bool_)):
-        raise SunsetError(f"{name} must be True or False, got {shown(value)}")
+        raise SunsetError(f"{name} must be True or False, got {typed(value)}")
 
 
 def require_instance(name: str, value: Any, kind: type, what: str | None = None) -> None:
     """Raise :class:`SunsetError` unless ``value`` is a ``kind`` (named ``what`` in the message)."""
     if not isinstance(value, kind):
-        raise SunsetError(f"{name} must be a {what or kind.__name__}, got {shown(value)}")
+        raise SunsetError(f"{name} must be a {what or kind.__name__}, got {typed(value)}")
 
 
 def require_items(name: str, value: Any, kind: type, most: int | None = None) -> tuple:
     """``value`` as a tuple of ``kind`` (a list or tuple of them, at most ``most``), else :class:`SunsetError`."""
     if not isinstance(value, (list, tuple)):
-        raise SunsetError(f"{name} must be a list of {kind.__name__}, got {shown(value)}")
+        raise SunsetError(f"{name} must be a list of {kind.__name__}, got {typed(value)}")
     if most is not None and len(value) > most:
         raise SunsetError(f"{name} must hold at most {most} entries, got {len(value)}")
     for k, item in enumerate(value):
         if not isinstance(item, kind):
-            raise SunsetError(f"{name}[{k}] must be a {kind.__name__}, got {shown(item)}")
+            raise SunsetError(f"{name}[{k}] must be a {kind.__name__}, got {typed(item)}")
     return tuple(value)
 
 
@@ -228,8 +232,11 @@ def require_scalars(obj: Any) -> None:
         value = getattr(obj, f.name)
         if kind == "float":
             real_number(f.name, value)
-        elif kind == "int":
-            require_int_range(f.name, value, -(1 << 62), 1 << 62)
+        elif kind == "int":                 # the field's own range is checked next, on a number it can compare
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+                raise SunsetError(f"{f.name} must be an integer, got {typed(value)}")
+            if abs(int(value)) > 1 << 62:
+                raise SunsetError(f"{f.name} must be an integer of at most 62 bits, got {shown(value)}")
 
 
 def require_size(name: str, size: Any) -> tuple[int, int]:

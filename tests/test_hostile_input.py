@@ -276,6 +276,9 @@ DEEP = "title = " + "[" * 1000 + "]" * 1000 + "\n"
 
 @pytest.mark.parametrize("old, new, words", [
     ("eye_height = 2.0", "eye_height = " + "9" * 400, ["camera.eye_height", "400 digits"]),
+    ("eye_height = 2.0", "eye_height = " + "9" * 5000, ["more than 4300 digits"]),   # past int()'s limit
+    ("width = 1020", "width = " + "9" * 4000, ["camera.width", "at most 62 bits"]),
+    ("width = 1020", 'width = "1020"', ["camera.width", "integer", "(str)"]),
     ("wavelength = 40.0", "wavelength = 1e308", ["sea.trains[0].wavelength", "at most"]),
     ("amplitude = 0.5", "amplitude = 1e308", ["sea.trains[0].amplitude"]),
     ("e = 0.004", "e = 1e308", ["islands[0].cliff.e"]),

@@ -25,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import sys
 import tomllib
 import typing
 from dataclasses import dataclass, field, replace
@@ -36,7 +37,7 @@ from .camera import Camera
 from .clouds import Billow, CloudCell, Clouds
 from .posts import Post
 from ..constants import CLOUD_MAX_CELLS, POST_MAX_COUNT
-from ..errors import SunsetError, require_instance, require_items, require_text, shown
+from ..errors import SunsetError, require_instance, require_items, require_text, shown, typed
 from .islands import Cosine, Island, Paraboloid
 from .sun import Sun
 from .waves import Sea, WaveTrain
@@ -227,6 +228,10 @@ def scene_from_text(text: str, where: str = "") -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SunsetError(f"{where}malformed TOML ({shown(str(exc))})") from None
+    except ValueError as exc:               # an integer literal past the digits Python converts (4300)
+        what = (f"an integer literal of more than {sys.get_int_max_str_digits()} digits (no field of a scene "
+                f"takes one)" if "digits" in str(exc) else f"malformed TOML ({shown(str(exc))})")
+        raise SunsetError(f"{where}{what}") from None
     except RecursionError:
         raise SunsetError(f"{where}malformed TOML (nested too deep)") from None
     try:
@@ -327,17 +332,18 @@ def _join(path: str, name: str) -> str:
 def _convert(value, typ, where: str):
     if typ is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise SunsetError(f"{where} must be a number, got {shown(value)}")
+            raise SunsetError(f"{where} must be a number, got {typed(value)}")
         if isinstance(value, float) and math.isnan(value):
             raise SunsetError(f"{where} must be a finite number, got nan")
         try:
             return float(value)
         except OverflowError:
-            raise SunsetError(f"{where} must be a finite number, got an integer of "
-                              f"{len(str(abs(value)))} digits") from None
+            bits = abs(value).bit_length()    # str() stops at 4300 digits
+            digits = len(str(abs(value))) if bits <= 14000 else f"about {math.floor(bits * math.log10(2)) + 1}"
+            raise SunsetError(f"{where} must be a finite number, got an integer of {digits} digits") from None
     if typ is int:
         if isinstance(value, bool) or not isinstance(value, int):
-            raise SunsetError(f"{where} must be an integer, got {shown(value)}")
+            raise SunsetError(f"{where} must be an integer, got {typed(value)}")
         return value
     if typ is str:
         if not isinstance(value, str):

@@ -25,7 +25,7 @@ from scipy.optimize import minimize_scalar
 
 from ..constants import (STOKES_MAX_STEEPNESS, STOKES_SERIES_MAX_ORDER_EXACT, STOKES_SERIES_MAX_ORDER_FLOAT,
                          STOKES_MAX_AMPLITUDES, STOKES_SERIES_MAX_X)
-from ..errors import SunsetError, real_array, real_number, require_int_range, shown
+from ..errors import SunsetError, real_array, real_number, require_int_range, shown, typed
 from .pade import RationalPade, SingularPade, pade_coefficients, pade_exact
 from .pade import _sequence as _pade_sequence
 from .series_recurrence import Ring, compose, conformal_rows, eulerian_amplitude, inverse, join, modes, mul, \
@@ -354,7 +354,7 @@ def stokes_series(order: int, exact: bool = True) -> StokesSeries:
 
 def _check_order(order, exact) -> None:
     if not isinstance(exact, (bool, np.bool_)):        # 'no' is not False
-        raise SunsetError(f"exact must be True or False, got {shown(exact)}")
+        raise SunsetError(f"exact must be True or False, got {typed(exact)}")
     limit = STOKES_SERIES_MAX_ORDER_EXACT if exact else STOKES_SERIES_MAX_ORDER_FLOAT
     require_int_range("order", order, 1, limit)
 
@@ -409,15 +409,18 @@ def domb_sykes(coefficients, stride: int = 1, shift: int = 0, fit_last: int = 10
         Number of ratios, the last ones, in the fit.
     """
     values = _pade_sequence(coefficients)
-    require_int_range("stride", stride, 1, max(1, len(values)))
-    require_int_range("shift", shift, 0, len(values))
-    require_int_range("fit_last", fit_last, 2, max(2, len(values)))
+    if len(values) < 3:                     # said first: the arguments below are bounded by the count
+        raise SunsetError(f"domb_sykes: a line through 2 ratios needs at least 3 coefficients, got {len(values)}")
+    require_int_range("stride", stride, 1, len(values) - 1)
+    require_int_range("shift", shift, 0, len(values) - 1)
+    require_int_range("fit_last", fit_last, 2)
     b = real_array("coefficients", values)[shift::stride]
     if not np.all(np.isfinite(b)):
         raise SunsetError("domb_sykes: the coefficients must be finite in float64")
-    if len(b) < fit_last + 1:
-        raise SunsetError(f"domb_sykes: fitting the last {fit_last} ratios needs {fit_last + 1} coefficients after "
-                          f"stride {stride} and shift {shift}, got {len(b)}")
+    if len(b) <= fit_last:                  # the count, not fit_last's default, is what is short
+        raise SunsetError(f"domb_sykes: fitting the last fit_last = {shown(fit_last)} ratios needs one coefficient "
+                          f"more than that after stride {stride} and shift {shift}, got {len(b)} of "
+                          f"{len(values)}")
     k = np.arange(1, len(b))
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         ratios = b[1:] / b[:-1]

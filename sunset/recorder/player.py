@@ -398,7 +398,12 @@ def read_player_data(text: str) -> dict:
     m = re.search(rf'<script type="application/json" id="{_DATA_ID}">(.*?)</script>', text, flags=re.S)
     if m is None:
         raise SunsetError("no sunset player data in this page")
-    data = json.loads(m.group(1))
+    try:
+        data = json.loads(m.group(1))
+    except (ValueError, RecursionError) as exc:       # a damaged page: its JSON, or an integer past 4300 digits
+        raise SunsetError(f"the page's player data is not JSON ({shown(str(exc))})") from None
+    if not isinstance(data, dict):
+        raise SunsetError(f"the page's player data must be a JSON object, got {type(data).__name__}")
     if data.get("format") != PLAYER_FORMAT:
         raise SunsetError(f"player data format {data.get('format')!r} is not {PLAYER_FORMAT!r}")
     return data

@@ -50,7 +50,7 @@ memory, :data:`~sunset.constants.INTERPRETER_BYTES`, comes on top:
 :data:`~sunset.constants.MAX_FRAME_BYTES`.
 :func:`sunset.bench.memory.measure_bytes_per_pixel` measures the per-pixel
 term; :func:`sunset.bench.memory.measure_command_peak` a whole command's
-peak in a fresh process (``tests/test_budget.py`` checks it against
+peak in a fresh process (``tests/test_memory_peak.py`` checks it against
 ``bytes`` over windows from 10⁻⁶ tall to the whole view).
 """
 

@@ -286,6 +286,20 @@ def test_domb_sykes_on_a_known_function():
         domb_sykes(alt, stride=1)
 
 
+@pytest.mark.parametrize("coefficients, kwargs, words", [
+    ([1.0], {}, "needs at least 3 coefficients, got 1"),
+    ([1.0, 0.5], {"fit_last": 2}, "needs at least 3 coefficients, got 2"),
+    ([1.0, 0.5, 0.25, 0.125], {}, r"fit_last = 10 ratios needs one coefficient more .* got 4 of 4"),
+    ([1.0] * 20, {"stride": 3, "fit_last": 10}, r"stride 3 and shift 0, got 7 of 20"),
+    ([1.0] * 20, {"fit_last": 10**5000}, r"fit_last = an integer of"),
+    ([1.0] * 20, {"fit_last": "3"}, r"fit_last must be an integer, got 3 \(str\)"),
+])
+def test_domb_sykes_says_what_is_short(coefficients, kwargs, words):
+    """Too few coefficients are named as such, not as a fit_last the caller never passed (issue 33)."""
+    with pytest.raises(SunsetError, match=words):
+        domb_sykes(coefficients, **kwargs)
+
+
 # --------------------------------------------------------------------------- API and bad input
 def test_public_api_and_cache():
     assert sunset.stokes_series is stokes_series

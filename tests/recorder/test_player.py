@@ -19,7 +19,7 @@ from sunset.recorder.film import render_cycle
 from sunset.recorder.player import (HTML_SUFFIXES, PLAYER_FORMAT, code_meanings, compose, data_tables,
                                     decode_codes, encode_thresholds, hours_grid, nearest_hour, player_data,
                                     player_fragment, player_html, player_size, quantise, read_player_data,
-                                    sun_geometry, write_player)
+                                    sun_geometry, write_player, _DATA_ID)
 from sunset.tape.codes import CODE_MAP
 from sunset.model.waves import Sea, WaveTrain
 
@@ -231,6 +231,13 @@ def test_read_player_data_rejects_other_pages(data):
     other = player_html({**data, "format": "sunset-player/0"})
     with pytest.raises(SunsetError, match="format"):
         read_player_data(other)
+    page = player_html(data)
+    start = page.index(f'id="{_DATA_ID}">') + len(f'id="{_DATA_ID}">')
+    for damaged, words in ((page[:start] + "{" + page[start:], "not JSON"),
+                           (page[:start] + "9" * 5000 + page[page.index("</script>", start):], "not JSON"),
+                           (page[:start] + "[1]" + page[page.index("</script>", start):], "JSON object")):
+        with pytest.raises(SunsetError, match=words):          # one line, not json's or dict's own error
+            read_player_data(damaged)
 
 
 # --------------------------------------------------------------------------- the file and the command
