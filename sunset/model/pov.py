@@ -167,6 +167,10 @@ def pov_scene(scene: Scene, t: float = 0.0) -> str:
     from ..provenance import provenance_json
 
     require_finite("t", t)
+    if scene.sea.wind is not None:
+        from ..errors import SunsetError
+        from .windsea import NOT_EXPORTED
+        raise SunsetError(NOT_EXPORTED)
     cam = scene.camera
     h = cam.eye_height
     d = scene.sea.max_elevation

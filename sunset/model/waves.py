@@ -38,7 +38,7 @@ from ..constants import GRAVITY, MAX_DEGREES, MAX_PHASE, MAX_TRAINS, MAX_WAVE_SL
 from ..errors import (SunsetError, require_finite, require_int_range, require_items, require_nonnegative,
                       require_positive, require_range, require_scalars, shown)
 from .stokes import stokes_coefficients
-from .windsea import NOT_YET_RENDERED, WindSea
+from .windsea import WindSea
 
 #: Largest denominator accepted when :attr:`Sea.period` looks for the rational
 #: ratios ω_j/ω_min of a repeating sea.
@@ -196,8 +196,8 @@ class Sea:
         another non-default gravity is an error.
     wind : WindSea or None
         A sea given by its wind instead of trains (:mod:`sunset.model.windsea`):
-        its heights and slopes come from a periodic FFT tile. Not yet rendered:
-        :attr:`max_elevation`, which every render path asks first, refuses it.
+        its heights and slopes come from a periodic FFT tile, which the vector
+        stage samples (:mod:`sunset.vector.windsea_scan`).
     """
 
     trains: tuple[WaveTrain, ...] = field(default_factory=tuple)
@@ -288,11 +288,12 @@ class Sea:
     def max_elevation(self) -> float:
         """d = Σ_j Σ_n ``|a_jn|``: the most the sea can depart from its mean level, metres.
 
-        A wind sea raises :class:`SunsetError` (it is not yet rendered; its
-        tile's bound at a time t is ``sea.wind.tile.bound(t)``).
+        A wind sea: its tile's bound over every point and time,
+        :attr:`sunset.model.ocean.OceanTile.bound_every_time` (the bound at
+        one time t is ``sea.wind.tile.bound(t)``).
         """
         if self.wind is not None:
-            raise SunsetError(NOT_YET_RENDERED)
+            return self.wind.tile.bound_every_time
         return float(sum(t.max_elevation for t in self.trains))
 
     @property

@@ -20,13 +20,14 @@ spectrum's integral over what the tile resolves. The amplitudes are drawn
 shell by shell (max(|m|, |n|) = 1, 2, …), so a finer tile of the same L and
 seed keeps the same long waves and only adds shorter ones.
 
-What a renderer uses (the vector stage's integration, to come):
+What a renderer uses (:mod:`sunset.vector.windsea_scan`, the RGB back end's :mod:`sunset.light.glitter`):
 
 * ``sea.wind.sample(x, y, t)``: (z, ∂z/∂x, ∂z/∂y) at a strip of scene points
   (any shape), bilinear from the tile's FFT grids (errors:
   ``tile.interpolation_error()``); one FFT per new t, then cached;
 * ``sea.wind.tile.bound(t)``: max |z| of the sea at t, exact for the
-  interpolated sea (``tile.bound_all_times``: a loose bound for every t);
+  interpolated sea; ``tile.bound_every_time``: a bound for every t (the
+  sea's ``max_elevation``);
 * ``tile.size``, ``tile.n``, ``tile.spacing``, ``tile.cycle`` (L, N, L/N, T),
   and ``make_tile(oversample)`` for finer grids;
 * ``unresolved_slopes()`` with :func:`sunset.model.coxmunk.facet_density`:
@@ -55,9 +56,9 @@ MIN_TILE_SIZE, MAX_TILE_SIZE = 1.0, 10000.0
 MIN_CYCLE, MAX_CYCLE = 1.0, 3600.0
 #: The largest seed.
 MAX_SEED = 2 ** 63 - 1
-#: What rendering a wind sea says until the vector stage samples the tile (issue 31's integration).
-NOT_YET_RENDERED = ("sea.wind: a wind sea is not yet rendered (the vector stage traces wave trains only; "
-                    "the tile is ready in sunset.model.windsea): give the sea as [[sea.trains]] to render it")
+#: What exporting a wind sea to POV-Ray says (its isosurface function is a sum of the trains' cosines).
+NOT_EXPORTED = ("sea.wind: a wind sea is not exported to POV-Ray (its function would be a sum of the tile's "
+                "components, tens of thousands of cosines): give the sea as [[sea.trains]] to export it")
 
 
 @dataclass(frozen=True, repr=False)

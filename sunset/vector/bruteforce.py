@@ -126,7 +126,8 @@ def sea_hits(sea, h: float, s, zeta, t: float = 0.0, step: float | None = None):
         Time, seconds.
     step : float, optional
         Marching step in y; by default the shortest wavelength over
-        SEA_STEPS_PER_WAVELENGTH times the highest Stokes order.
+        SEA_STEPS_PER_WAVELENGTH times the highest Stokes order (a wind sea:
+        its tile's grid spacing over SEA_STEPS_PER_WAVELENGTH).
     """
     s = np.asarray(s, dtype=float)
     zeta = np.asarray(zeta, dtype=float)
@@ -138,7 +139,9 @@ def sea_hits(sea, h: float, s, zeta, t: float = 0.0, step: float | None = None):
     if d == 0:
         out[down] = h / -zeta[down]
         return out
-    if step is None:
+    if step is None and sea.wind is not None:     # a wind sea: the tile's grid spacing, its bilinear cells' side
+        step = sea.wind.tile.spacing / SEA_STEPS_PER_WAVELENGTH
+    elif step is None:
         lam = min(tr.wavelength / tr.stokes_order for tr in sea.trains if tr.amplitude > 0)
         step = lam / SEA_STEPS_PER_WAVELENGTH
     rs, rz = s[down], zeta[down]

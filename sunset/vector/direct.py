@@ -24,6 +24,7 @@ from .frame import Frame
 from .budget import check_work
 from .heightfield import sampling, sea_columns, sea_gradient_on_scanlines
 from .island_samples import islands_scan, probe_refinement
+from .windsea_scan import wind_columns, wind_gradient_on_scanlines
 
 __all__ = ["trace_direct", "sea_depth", "sea_strip", "islands_alone", "sea_geometry", "IslandPass",
            "island_key", "island_pass", "assemble_geometry", "put_unit_normals", "put_sea_normals", "put_island_normals"]
@@ -171,6 +172,7 @@ def _depth_buffer(scene, t: float, refine_islands: bool, islands: IslandPass | N
     zeta = _row_heights(cam)             # bottom up
     zeta0 = float(zeta[0])
     u_sea_lattice = samp.u()
+    columns = sea_columns if scene.sea.wind is None else wind_columns     # the scan line of the sea's kind
     clock = time.perf_counter
     tick = clock()
     if islands is None:
@@ -188,8 +190,8 @@ def _depth_buffer(scene, t: float, refine_islands: bool, islands: IslandPass | N
     def sea(c0: int, c1: int) -> int:
         # the sea: its profile on the lattice (sea_profile), scan-converted,
         # the far tail, merged with ties to the sea (sea_scan)
-        return sea_columns(scene.sea, s_all[c0:c1], u_sea_lattice, h, t,
-                           zeta0, dz, H, best_u[c0:c1], best_surf[c0:c1])
+        return columns(scene.sea, s_all[c0:c1], u_sea_lattice, h, t,
+                       zeta0, dz, H, best_u[c0:c1], best_surf[c0:c1])
 
     tail = 0
     if samp.n:
@@ -363,7 +365,8 @@ def put_sea_normals(sea, t: float, normal, idx, s, y) -> None:
     :func:`sunset.vector.heightfield.sea_gradient_on_scanlines` at (s·y, y)
     and :func:`put_unit_normals`; the twin does both in one pass.
     """
-    fx, fy = sea_gradient_on_scanlines(sea, s, y, t)
+    gradient = sea_gradient_on_scanlines if sea.wind is None else wind_gradient_on_scanlines
+    fx, fy = gradient(sea, s, y, t)
     put_unit_normals(normal, idx, fx, fy)
 
 

@@ -14,7 +14,7 @@ from sunset.model.scene import Scene
 from sunset.model.spectrum import WindSpectrum
 from sunset.model.waves import Sea, WaveTrain
 from sunset.model.wind import Wind
-from sunset.model.windsea import NOT_YET_RENDERED, WindSea
+from sunset.model.windsea import NOT_EXPORTED, WindSea
 
 SEEDS = 16
 
@@ -162,8 +162,7 @@ def test_a_sea_given_by_its_wind():
     np.testing.assert_array_equal(two[0], z)
     np.testing.assert_array_equal(two[1], ws.sample(x, y, 6.0)[0])
     assert s.elevation(np.float32(1.0), 2.0, 0.0).dtype == np.float32
-    with pytest.raises(SunsetError, match="^sea.wind: a wind sea is not yet rendered"):
-        s.max_elevation
+    assert s.max_elevation == ws.tile.bound_every_time
     with pytest.raises(SunsetError, match="^wind: give the sea as trains or as a wind, not both"):
         Sea((WaveTrain(0.1, 10.0),), wind=ws)
     with pytest.raises(SunsetError, match="^gravity must be standard gravity"):
@@ -213,15 +212,21 @@ def test_a_scene_may_give_its_sea_as_a_wind():
 
 
 @pytest.mark.parametrize("command", [["render", "--size", "16x12", "-o", "{out}.png"],
+                                     ["render", "--size", "16x12", "--shading", "rgb", "-o", "{out}.png"],
                                      ["film", "--size", "16x12", "--frames", "2", "-o", "{out}.mp4"],
-                                     ["player", "-o", "{out}.html"], ["export", "pov", "-o", "{out}.pov"]])
-def test_rendering_a_wind_sea_says_it_is_not_yet_rendered(command, tmp_path, capsys):
+                                     ["player", "--size", "16x12", "--frames", "2", "-o", "{out}.html"]])
+def test_a_wind_sea_is_rendered_filmed_and_played(command, tmp_path, capsys):
+    path = tmp_path / "wind.toml"
+    path.write_text(WIND_SCENE.replace("eye_height = 2.0", "eye_height = 4.0"), encoding="utf-8")
+    args = [a.format(out=tmp_path / "out") for a in command]
+    assert main(args[:1] + [str(path), "-q"] + args[1:]) == 0, capsys.readouterr().err
+    assert (tmp_path / Path(args[-1]).name).stat().st_size > 0
+
+
+def test_exporting_a_wind_sea_to_pov_ray_is_refused_in_one_line(tmp_path, capsys):
     path = tmp_path / "wind.toml"
     path.write_text(WIND_SCENE, encoding="utf-8")
-    args = [a.format(out=tmp_path / "out") for a in command]
-    args = args[:2] + [str(path)] + args[2:] if args[0] == "export" else args[:1] + [str(path)] + args[1:]
-    assert main(args) == 2
+    assert main(["export", "pov", str(path), "-o", str(tmp_path / "out.pov")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and NOT_YET_RENDERED in err and "Traceback" not in err
+    assert err.count("\n") == 1 and NOT_EXPORTED in err and "Traceback" not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["wind.toml"]
-    assert Path(path).read_text(encoding="utf-8") == WIND_SCENE

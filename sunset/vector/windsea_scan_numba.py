@@ -1,0 +1,104 @@
+"""Numba twins of :mod:`sunset.vector.windsea_scan`: the wind sea's scan line interpolated and scan-converted at once.
+
+:func:`wind_columns` interpolates each scan line's profile from the tile's
+grid into a buffer of one scan line (the reference's bilinear arithmetic, in
+the same order, so the profile is the same numbers) and scan-converts it
+while it is in cache with the trains' compiled scan line
+(:func:`sunset.vector.heightfield_numba._scan_row_b` and ``_merge_row``): no
+(C, n) profile. :func:`wind_gradient_on_scanlines` interpolates the two
+gradient grids. A choppy tile (λ > 0) is handed to the reference kernels.
+Chosen by :mod:`sunset.kernels`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..constants import SEA
+from ..kernels import jit as _jit
+from . import windsea_scan as _reference
+from .heightfield import _F32
+from .heightfield_numba import _merge_row, _scan_row_b
+
+
+@_jit
+def _bilinear(grid, spacing, x, y):
+    """The reference's periodic bilinear interpolation (:meth:`sunset.model.ocean.OceanTile._bilinear`) at one point."""
+    m = grid.shape[0]
+    u = x / spacing
+    v = y / spacing
+    i0f = math.floor(v)
+    j0f = math.floor(u)
+    fv = v - i0f
+    fu = u - j0f
+    i0 = int(i0f) % m
+    j0 = int(j0f) % m
+    i1 = (i0 + 1) % m
+    j1 = (j0 + 1) % m
+    w00 = (1 - fv) * (1 - fu)
+    w01 = (1 - fv) * fu
+    w10 = fv * (1 - fu)
+    w11 = fv * fu
+    return w00 * grid[i0, j0] + w01 * grid[i0, j1] + w10 * grid[i1, j0] + w11 * grid[i1, j1]
+
+
+@_jit
+def _wind_columns(z, spacing, s, y, u, h, zeta0, dzeta, inv_dz_t, zeta0_t, kf_t, zero_t, K, best_u, best_surf,
+                  code):
+    """Each scan line's profile from the grid, then its scan line, far tail and depth buffer."""
+    N = y.shape[0]
+    g = np.empty(N, _F32)
+    bins = np.empty(N, dtype=np.int32)
+    first = np.empty(K + 1, dtype=np.int64)
+    row = np.empty(K)
+    n_tail = 0
+    for col in range(s.shape[0]):
+        sc = s[col]
+        for i in range(N):
+            g[i] = np.float32((_bilinear(z, spacing, sc * y[i], y[i]) - h) * u[i])
+        _scan_row_b(u, 0, g, 0, N, zeta0, dzeta, inv_dz_t, zeta0_t, kf_t, zero_t, K, row, bins, first)
+        n_tail += _merge_row(row, np.float64(g[N - 1]), u[N - 1], zeta0, dzeta, True, best_u[col], best_surf[col],
+                             code, True)
+    return n_tail
+
+
+def wind_columns(sea, s, u, h: float, t: float, zeta0: float, dzeta: float, n_pixels: int, best_u, best_surf) -> int:
+    """:func:`sunset.vector.windsea_scan.wind_columns` compiled: ``best_u`` and ``best_surf`` updated in place."""
+    tile = sea.wind.tile
+    u = np.ascontiguousarray(u, dtype=np.float64)
+    s = np.ascontiguousarray(s, dtype=np.float64)
+    if u.size == 0 or s.size == 0 or tile.choppiness > 0:
+        return _reference.wind_columns.reference(sea, s, u, h, t, zeta0, dzeta, n_pixels, best_u, best_surf)
+    z = tile.fields(t)["z"]
+    bu, bs = np.ascontiguousarray(best_u), np.ascontiguousarray(best_surf)
+    f = _F32
+    tail = int(_wind_columns(z, tile.spacing, s, 1.0 / u, u, float(h), float(zeta0), float(dzeta), f(1.0 / dzeta),
+                             f(zeta0), f(n_pixels), f(0.0), int(n_pixels), bu, bs, SEA))
+    if bu is not best_u:
+        best_u[...] = bu
+    if bs is not best_surf:
+        best_surf[...] = bs
+    return tail
+
+
+@_jit
+def _gradient(zx, zy, spacing, s, y, gx, gy):
+    for i in range(s.shape[0]):
+        x = s[i] * y[i]
+        gx[i] = np.float32(_bilinear(zx, spacing, x, y[i]))
+        gy[i] = np.float32(_bilinear(zy, spacing, x, y[i]))
+
+
+def wind_gradient_on_scanlines(sea, s, y, t: float = 0.0):
+    """:func:`sunset.vector.windsea_scan.wind_gradient_on_scanlines` compiled (the same numbers, float32)."""
+    tile = sea.wind.tile
+    s, y = np.broadcast_arrays(np.asarray(s, dtype=np.float64), np.asarray(y, dtype=np.float64))
+    if tile.choppiness > 0 or not (np.all(np.isfinite(s)) and np.all(np.isfinite(y))):
+        return _reference.wind_gradient_on_scanlines.reference(sea, s, y, t)
+    f = tile.fields(t)
+    gx, gy = np.empty(s.shape, _F32), np.empty(s.shape, _F32)
+    _gradient(f["zx"], f["zy"], tile.spacing, np.ascontiguousarray(s).ravel(), np.ascontiguousarray(y).ravel(),
+              gx.reshape(-1), gy.reshape(-1))
+    return gx, gy
