@@ -87,6 +87,7 @@ class Geometry:
     n: float = WATER_REFRACTIVE_INDEX
     sky_cloud: np.ndarray | None = None     # (S,) float32: depth of the cloud a sky ray ends on, NaN: none
     island_point: np.ndarray | None = None  # (I, 3) float32: the direct ray's hit (eye at the origin), NaN if reflected
+    glitter: object | None = None           # a wind sea's sea pixels for the sun's glitter (sunset.light.glitter.Glitter)
 
     @property
     def nbytes(self) -> int:
@@ -94,7 +95,7 @@ class Geometry:
                   self.sky_r0, self.sky_fr, self.sky_azimuth, self.island_index, self.island_g, self.island_f,
                   self.water_index, self.water_up, self.water_mu, self.water_weight, self.water_sky]
         arrays += [a for a in (self.sky_cloud, self.island_point) if a is not None]
-        return int(sum(a.nbytes for a in arrays))
+        return int(sum(a.nbytes for a in arrays)) + (0 if self.glitter is None else self.glitter.nbytes)
 
     @property
     def final_normal(self) -> np.ndarray:

@@ -17,7 +17,10 @@ Everything is float32 XYZ radiance in the sky model's units. The per-pixel
 loops are the kernels of :mod:`sunset.light.kernel`, the sky's and the islands'
 run on strips of their lists on the threads (each entry computed alone, so
 the same bytes for any number of threads); the extra sky layers and light
-sources of a Lighting are applied between them.
+sources of a Lighting are applied between them. A wind sea's geometry carries
+its :class:`~sunset.light.glitter.Glitter`: the sun's disk is left out of its
+sea pixels' mirror reflections and the facets' glitter added instead
+(:mod:`sunset.light.glitter`).
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ import numpy as np
 from ..constants import STRIP_PIXELS
 from ..kernels import run_strips, strips
 from .geometry import Geometry
+from .glitter import glitter_radiance, sun_irradiance
 from .kernel import combine, island_pixels, sky_pixels
 from .lighting import SKY_REFINE, Lighting
 
@@ -46,6 +50,14 @@ def shade(geometry: Geometry, light: Lighting) -> np.ndarray:
                               light.sun_azimuth, col_scale, light.sun_dir, math.cos(light.delta), light.sun_xyz)
 
     run_strips(sky_part, strips(len(sky), STRIP_PIXELS))
+    gl = g.glitter
+    if gl is not None:      # a wind sea: the sun's light off its facets (below), not its disk in the sea's mirror
+        sea_path = np.zeros(len(g.final_dir), bool)
+        sea_path[gl.index] = True
+        sel = np.flatnonzero(sea_path[g.sky_index])
+        if len(sel):
+            sky[sel] = sky_pixels(g.sky_r0[sel], g.sky_fr[sel], g.sky_azimuth[sel], g.sky_dir[sel], light.sky_linear,
+                                  light.sun_azimuth, col_scale, light.sun_dir, math.cos(light.delta), np.zeros(3))
     for layer in light.extra_sky:
         sky = np.asarray(layer(g.sky_dir, sky), np.float32)
     if g.sky_cloud is not None and light.cloud_xyz is not None:
@@ -68,4 +80,7 @@ def shade(geometry: Geometry, light: Lighting) -> np.ndarray:
     out = combine(g.final_dir.shape[0], g.throughput, g.sky_index, sky, g.island_index, island, g.water_starts,
                   g.water_index, g.water_up, g.water_mu, g.water_weight, g.water_sky, light.beam, -light.beam[2],
                   light.water_sun, light.water_sky)
+    if gl is not None and len(gl.index):
+        out[gl.index] += glitter_radiance(gl.view, gl.normal, light.sun_dir, sun_irradiance(light.sun_xyz, light.delta),
+                                          gl.var_upwind, gl.var_crosswind, gl.wind_direction, gl.n)
     return out.reshape(g.shape + (3,))

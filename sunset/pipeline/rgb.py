@@ -25,6 +25,7 @@ from pathlib import Path
 from ..errors import SunsetError, require_finite, require_int_range
 from ..light.film import film_frame
 from ..light.geometry import Geometry
+from ..light.glitter import Glitter
 from ..light.output import check_rgb_output, save_rgb
 from ..light.render import check_samples, frame_light, shade_display, shade_scene_linear, supersampled
 from .budget import check_geometry_bytes, check_rgb_work, workers_within_budget
@@ -43,7 +44,11 @@ def trace_geometry(scene, t: float = 0.0, reflections: int = 2, samples: int = 1
     require_finite("t", t)
     if not checked:
         check_rgb_work(scene, samples)                # before the picture is supersampled
-    return Geometry.from_frame(render(supersampled(scene, k) if k > 1 else scene, float(t), reflections))
+    frame = render(supersampled(scene, k) if k > 1 else scene, float(t), reflections)
+    geometry = Geometry.from_frame(frame)
+    if scene.sea.wind is not None:       # the sun's glitter off the facets the tile cannot resolve
+        geometry.glitter = Glitter.from_frame(frame, scene.sea.wind)
+    return geometry
 
 
 def render_rgb(scene, t: float = 0.0, hours: float = 0.35, samples: int = 1, reflections: int = 2):
