@@ -42,4 +42,6 @@ GALLERY: tuple[Showing, ...] = (
     Showing("storm-swell", 1.0, 1.5),
     Showing("archipelago-at-dusk", -0.15),
     Showing("post-in-the-swell", 1.0),
+    Showing("carlas-island-in-the-wind", 0.35),
+    Showing("fresh-gale", 1.0),
 )

@@ -16,8 +16,8 @@ from sunset.model.scene import scene_names
 from sunset.model.scene import Scene, load_named_scene
 from sunset.model.waves import Sea
 
-NAMES = ["archipelago-at-dusk", "carlas-island", "carlas-island-clouds", "post-in-the-swell", "still-lake-at-noon",
-         "storm-swell"]
+NAMES = ["archipelago-at-dusk", "carlas-island", "carlas-island-clouds", "carlas-island-in-the-wind", "fresh-gale",
+         "post-in-the-swell", "still-lake-at-noon", "storm-swell"]
 
 
 def test_every_packaged_scene_is_in_the_gallery():
