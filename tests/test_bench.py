@@ -208,3 +208,16 @@ def test_the_wind_sea_rows():
     assert np.count_nonzero(tile.h0) == 64
     xs = np.arange(256) * tile.spacing
     np.testing.assert_allclose(ocean._direct(tile, xs, 1.5), tile.fields(1.5)["z"], atol=1e-12)
+
+
+def test_the_wind_sea_frame_rows():
+    """A frame against the tile's components and Max's trains: every one timed, the packaged scene's tile put back."""
+    from sunset.bench import ocean
+    from sunset.model.scene import Scene
+
+    res = ocean.measure_wind_frames(24, 16, 1, components=(4, 64), trains=(4, 8))
+    assert list(res) == ["24x16 frame, wind sea of 4 components", "24x16 frame, wind sea of 64 components",
+                         "24x16 frame, 4 wave trains (Max's)", "24x16 frame, 8 wave trains (Max's)"]
+    assert all(len(v) == 1 and v[0] > 0 for v in res.values())
+    assert np.count_nonzero(Scene.named(ocean.WIND_FRAME_SCENE).sea.wind.tile.h0) > 10000
+    assert ocean.rows({"times": res, "peak_rss_mib": 1.0}, "frame")[0]["what"] == "frame, " + list(res)[0]

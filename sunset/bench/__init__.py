@@ -176,7 +176,7 @@ MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _meas
                 "scaling": _measure_scaling, "profile": _measure_profile, "rgb": rgb_bench.measure_rgb,
                 "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits,
                 "series": stokes_bench.measure_series, "explorer": explorer_bench.measure_explorer,
-                "ocean": ocean_bench.measure_ocean, "budget": lambda w, h, r: memory_bench.measure_budget()}
+                "ocean": ocean_bench.measure_ocean, "windframe": ocean_bench.measure_wind_frames, "budget": lambda w, h, r: memory_bench.measure_budget()}
 
 
 def _child(args) -> None:
@@ -365,6 +365,8 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     if ocean:
         log("the wind sea's FFT tile: sizes, component counts, sampling ...")
         report["ocean"] = ocean_bench.rows(measure("ocean", 0, 0, repeats))
+        size = ocean_bench.WIND_FRAME_SIZE
+        report["ocean"] += ocean_bench.rows(measure("windframe", size, size, repeats), "frame")
     if figures:
         log(f"sunset figures, every figure and the film, {extra.FIGURES_RUNS} runs ...")
         report["figures"] = extra.measure_figures()

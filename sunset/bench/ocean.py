@@ -6,7 +6,10 @@ spectral components, against summing the same components as Max summed his
 trains, one cosine each at every grid point? The FFT's cost does not depend on
 how many of its N² lattice points are filled; the direct sum's grows with each.
 Also timed: sampling a million points of the tile (bilinear, a strip at a time
-in the renderer).
+in the renderer). And a whole 8-bit frame of a wind sea (render + encode) as
+its tile holds more and more components, beside the same frame of Carla's
+Island with more and more of Max's trains (:func:`measure_wind_frames`): the
+trains' frame grows with their number, the tile's does not.
 """
 
 from __future__ import annotations
@@ -87,10 +90,50 @@ def measure_ocean(width: int, height: int, repeats: int, sizes=OCEAN_SIZES, comp
     return out
 
 
-def rows(result: dict) -> list[dict]:
-    """The JSON rows of a :func:`measure_ocean` result run by :func:`sunset.bench.measure`."""
-    return [{"what": f"wind-sea tile, {what}", "median_s": statistics.median(times), "runs_s": list(times),
-             "peak_rss_mib": result["peak_rss_mib"]} for what, times in result["times"].items()]
+#: The frame of the last question: a packaged wind sea with the tile's largest components kept, and Carla's Island
+#: with this many of Max's trains (its four, then shorter ones on the λ/n² ladder); render + encode, 2 reflections.
+WIND_FRAME_SCENE = "carlas-island-in-the-wind"
+WIND_FRAME_SIZE = 512
+WIND_FRAME_COMPONENTS = (4, 64, 1024, 16384, 65024)
+WIND_FRAME_TRAINS = (4, 16, 64)
+
+
+def measure_wind_frames(width: int, height: int, repeats: int, components=WIND_FRAME_COMPONENTS,
+                        trains=WIND_FRAME_TRAINS) -> dict:
+    """Seconds of a whole 8-bit frame (render + encode) against the spectral components, beside Max's trains.
+
+    Each run is at a new time, so a wind sea's runs include its tile's three
+    FFTs; its bound over every time is computed before the runs (once per scene).
+    """
+    from dataclasses import replace
+
+    from .. import encode, render
+    from ..model.ocean import OceanTile
+    from ..model.scene import Scene
+    from . import _scaled_sea
+
+    out = {}
+    wind_scene = Scene.named(WIND_FRAME_SCENE).with_size(width, height)
+    ws = wind_scene.sea.wind
+    for count in components:
+        tile = OceanTile(_keep(ws.amplitudes, count), ws.tile_size, ws.cycle)
+        ws.__dict__["tile"] = tile           # the cached tile of this (frozen) sea, replaced
+        tile.bound_every_time
+        out[f"{width}x{height} frame, wind sea of {count} components"] = _runs(
+            lambda i: encode(wind_scene, render(wind_scene, 0.37 * i, 2)), repeats)
+    ws.__dict__.pop("tile")
+    base = Scene.named("carlas-island").with_size(width, height)
+    for n in trains:
+        sc = replace(base, sea=_scaled_sea(base.sea, n))
+        out[f"{width}x{height} frame, {n} wave trains (Max's)"] = _runs(lambda i: encode(sc, render(sc, 0.37 * i, 2)),
+                                                                        repeats)
+    return out
+
+
+def rows(result: dict, what: str = "wind-sea tile") -> list[dict]:
+    """The JSON rows of a :func:`measure_ocean` (or :func:`measure_wind_frames`) result run by :func:`sunset.bench.measure`."""
+    return [{"what": f"{what}, {name}", "median_s": statistics.median(times), "runs_s": list(times),
+             "peak_rss_mib": result["peak_rss_mib"]} for name, times in result["times"].items()]
 
 
 def format_rows(ocean_rows: list[dict]) -> str:
