@@ -95,7 +95,7 @@ def measure_ocean(width: int, height: int, repeats: int, sizes=OCEAN_SIZES, comp
 WIND_FRAME_SCENE = "carlas-island-in-the-wind"
 WIND_FRAME_SIZE = 512
 WIND_FRAME_COMPONENTS = (4, 64, 1024, 16384, 65024)
-WIND_FRAME_TRAINS = (4, 16, 64)
+WIND_FRAME_TRAINS = (4, 8, 16)
 
 
 def measure_wind_frames(width: int, height: int, repeats: int, components=WIND_FRAME_COMPONENTS,
