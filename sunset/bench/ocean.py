@@ -110,7 +110,7 @@ def measure_wind_frames(width: int, height: int, repeats: int, components=WIND_F
     from .. import encode, render
     from ..model.ocean import OceanTile
     from ..model.scene import Scene
-    from . import _scaled_sea
+    from ..model.waves import Sea, WaveTrain
 
     out = {}
     wind_scene = Scene.named(WIND_FRAME_SCENE).with_size(width, height)
@@ -124,7 +124,10 @@ def measure_wind_frames(width: int, height: int, repeats: int, components=WIND_F
     ws.__dict__.pop("tile")
     base = Scene.named("carlas-island").with_size(width, height)
     for n in trains:
-        sc = replace(base, sea=_scaled_sea(base.sea, n))
+        first = base.sea.trains          # its four, then shorter ones on the λ/n² ladder (sunset.bench's scaling rows)
+        more = [WaveTrain(0.01, first[0].wavelength / m ** 2, direction=(37.0 * m) % 360.0, phase=float(m))
+                for m in range(len(first) + 1, n + 1)]
+        sc = replace(base, sea=Sea(tuple(first[:n]) + tuple(more)))
         out[f"{width}x{height} frame, {n} wave trains (Max's)"] = _runs(lambda i: encode(sc, render(sc, 0.37 * i, 2)),
                                                                         repeats)
     return out
