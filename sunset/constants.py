@@ -328,6 +328,10 @@ MAX_WINDOW_SLOPE = 10.0
 #: Narrowest picture window, either way (s_max − s_min, zy_max − zy_min): a nanoradian; a window of
 #: 1e-300 makes the sea's lattice step denormal and its sample count overflow.
 MIN_WINDOW_SPAN = 1e-9
+#: Latest time t (and earliest, −t) of a frame, seconds: about 32 years. The fastest wave allowed
+#: (MIN_WAVELENGTH) turns ω ≈ 56 rad/s, so its phase ω t stays below 6e10 rad, kept to 1e-5 rad in
+#: float64; at 1e308 s, ω t overflowed to infinity and the sea's phase raised a traceback.
+MAX_TIME = 1e9
 
 #: Longest wave, metres (ocean swell is at most about a kilometre long).
 MAX_WAVELENGTH = 10_000.0

@@ -159,6 +159,22 @@ def require_int_range(name: str, value: Any, lo: int, hi: int | None = None) -> 
 
 
 
+def require_time(name: str, value: Any, nan: bool = False) -> np.ndarray:
+    """``value`` as times in seconds, each finite and within ±MAX_TIME (sunset.constants); else SunsetError.
+
+    A number or an array (checked element by element); ``nan=True`` lets NaN
+    through (the sea's functions answer NaN with NaN). Returns the float64 array.
+    """
+    from .constants import MAX_TIME
+
+    arr = real_array(name, value)
+    if not np.all(np.isfinite(arr) | (np.isnan(arr) if nan else False)):
+        raise SunsetError(f"{name} must be a finite number, got {shown(value)}")
+    if np.any(np.abs(arr) > MAX_TIME):
+        raise SunsetError(f"{name} must be a time within ±{MAX_TIME:g} s, got {shown(value)}")
+    return arr
+
+
 def require_range(name: str, value: Any, lo: float, hi: float, unit: str = "", lo_open: bool = False) -> None:
     """Raise :class:`SunsetError` unless ``value`` is finite and lo <= value <= hi (lo < value if ``lo_open``).
 

@@ -49,13 +49,13 @@ def picture(scene: Scene | str | os.PathLike[str], t: float = 0.0, hours: float 
     ((48, 64, 3), dtype('uint8'))
     """
     from .recorder.dicomed import expose
-    from .errors import real_number, require_size
+    from .errors import real_number, require_size, require_time
     from .tape.cycle import code_frame
     from .model.scene import as_scene
 
     scene = as_scene(scene)
     real_number("hours", hours)
-    real_number("t", t)
+    require_time("t", real_number("t", t))
     if size is not None:
         scene = scene.with_size(*require_size("size", size))
     codes = code_frame(scene, t, reflections, seed)

@@ -184,3 +184,48 @@ def test_every_public_callable_is_covered():
     for name in player.__all__:
         if callable(getattr(player, name)) and inspect.signature(getattr(player, name)).parameters:
             assert f"player.{name}" in names, name
+
+
+#: Every public way a time t (seconds) reaches the sea's phase ω t.
+TIMED = [
+    ("render", lambda t: sunset.render(SCENE, t, 2)),
+    ("picture", lambda t: sunset.picture(SCENE, t=t, size=(8, 8))),
+    ("Frame", lambda t: sunset.Frame(**{**{f.name: getattr(FRAME, f.name) for f in fields(FRAME)}, "t": t})),
+    ("Sea.elevation", lambda t: SCENE.sea.elevation(0.0, 10.0, t)),
+    ("Sea.gradient", lambda t: SCENE.sea.gradient(0.0, 10.0, np.array([0.0, t]))),
+    ("pov_scene", lambda t: __import__("sunset.model.pov", fromlist=["pov_scene"]).pov_scene(SCENE, t)),
+    ("trace_geometry", lambda t: __import__("sunset.pipeline.rgb", fromlist=["x"]).trace_geometry(SCENE, t, 2, 1)),
+    ("Tape", lambda t: __import__("sunset.tape.tapefile", fromlist=["x"]).Tape(scene=SCENE, codes=CODES[None],
+                                                                               times=np.array([t]))),
+]
+
+
+@pytest.mark.parametrize("what, call", TIMED, ids=[w for w, _ in TIMED])
+def test_a_time_is_bounded_by_the_seas_clock(what, call):
+    """A time past ±MAX_TIME (1e308 made ω t infinite: a ValueError from math.remainder) is a SunsetError;
+    ±MAX_TIME itself runs without a warning (the tests turn warnings into errors)."""
+    from sunset.constants import MAX_TIME
+
+    for t in (1e308, -1e308, np.nextafter(MAX_TIME, np.inf), -np.nextafter(MAX_TIME, np.inf), float("inf")):
+        with pytest.raises(SunsetError, match=r"^t(imes)? must be (a time within ±1e\+09 s|a finite number)"):
+            call(t)
+    for t in (MAX_TIME, -MAX_TIME):
+        call(t)
+
+
+def test_a_sea_that_repeats_after_centuries_has_no_film():
+    """Frequencies in ratios 1, 65/64, 64/63, 62/61, 60/59, 54/53 of the lowest repeat after 6e10 s (the lcm of
+    the denominators, 14,511,168, cycles of the longest 80 s wave): past MAX_TIME, refused before any frame."""
+    from dataclasses import replace
+
+    from sunset.constants import MAX_TIME
+    from sunset.recorder.film import cycle_times
+
+    base = SCENE.sea.trains[0]
+    trains = tuple(replace(base, wavelength=10_000.0 / r**2, amplitude=0.5)
+                   for r in (1, 65 / 64, 64 / 63, 62 / 61, 60 / 59, 54 / 53))
+    scene = replace(SCENE, sea=replace(SCENE.sea, trains=trains))
+    longest = 2 * np.pi / min(t.omega for t in trains)
+    assert scene.sea.period == pytest.approx(64 * 63 * 61 * 59 * 53 * longest, rel=1e-9) and scene.sea.period > MAX_TIME
+    with pytest.raises(SunsetError, match="repeats only after 6.16e"):
+        cycle_times(scene, 4)

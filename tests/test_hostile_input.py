@@ -540,6 +540,9 @@ def test_smallest_sun_renders_without_warnings(capsys, tmp_path, scene_file):
     (["figures", "--out", ""], ["--out", "empty"]),
     (["film", "carlas-island", "-o", "f.mp4", "--preview", ""], ["--preview", "empty"]),
     (["render", "", "-o", "a.png"], ["scene", "empty"]),
+    (["render", "carlas-island", "--size", "8x8", "--time", "1e308", "-o", "a.png", "--tape", "a.tape"],
+     ["t must be a time within"]),                # ω t overflowed: a traceback from math.remainder before
+    (["export", "pov", "carlas-island", "--time", "-1e10", "-o", "a.pov"], ["t must be a time within"]),
 ])
 def test_empty_paths_are_errors(capsys, tmp_path, monkeypatch, argv, words):
     """14: an empty path is an error, never ignored or read as the current folder."""

@@ -49,7 +49,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ..errors import SunsetError, require_finite, require_int_range, require_range
+from ..errors import SunsetError, require_int_range, require_range, require_time
 from ..model.camera import Camera
 from ..model.islands import Island, Paraboloid
 from ..model.scene import Scene, SceneLike, as_scene
@@ -123,7 +123,7 @@ class Start:
         """The start of an explorer of ``scene`` (a Scene, a packaged scene's name or a TOML file)."""
         scene = as_scene(scene)
         require_hours("hours", hours)
-        require_finite("t", t)
+        require_time("t", t)
         try:
             width, height = size
         except (TypeError, ValueError):

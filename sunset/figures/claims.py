@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import SunsetError, require_finite
+from ..errors import SunsetError, require_finite, require_time
 
 
 # --------------------------------------------------------------------------- Figure 2
@@ -328,7 +328,7 @@ def reflection_modes(scene, t: float = 0.0, seed: int = 0) -> ReflectionModes:
     from ..vector.pierce import reflect
     from ..vector.render import render
 
-    require_finite("t", t)
+    require_time("t", t)
     f5 = render(scene, t, 1)
     f6 = render(scene, t, 2)
     sea = f5.surface == SEA

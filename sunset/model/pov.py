@@ -162,11 +162,11 @@ def _sea_gradient_bound(scene: Scene) -> float:
 
 def pov_scene(scene: Scene, t: float = 0.0) -> str:
     """The scene at time ``t`` (seconds) as a POV-Ray 3.7 scene file (text); see the module docstring."""
-    from ..errors import require_finite
+    from ..errors import require_time
     from ..escape import pov_comment
     from ..provenance import provenance_json
 
-    require_finite("t", t)
+    require_time("t", t)
     if scene.sea.wind is not None:
         from ..errors import SunsetError
         from .windsea import NOT_EXPORTED

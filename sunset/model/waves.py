@@ -35,7 +35,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..constants import GRAVITY, MAX_DEGREES, MAX_PHASE, MAX_TRAINS, MAX_WAVE_SLOPE, MAX_WAVELENGTH, MIN_WAVELENGTH
-from ..errors import (SunsetError, require_finite, require_int_range, require_items, require_nonnegative,
+from ..errors import (SunsetError, require_finite, require_time, require_int_range, require_items, require_nonnegative,
                       require_positive, require_range, require_scalars, shown)
 from .stokes import stokes_coefficients
 from .windsea import WindSea
@@ -169,6 +169,8 @@ def _as_arrays(x, y, t):
             raise SunsetError(f"{'xyt'[i]} must be real numbers, got dtype {a.dtype}")
         if i < 2 and isinstance(v, (np.ndarray, np.generic)) and a.dtype.kind == "f":
             dtypes.append(a.dtype)
+        if i == 2:                                  # ω t must stay finite (and precise): NaN in, NaN out
+            require_time("t", v, nan=True)
         arrays.append(a.astype(np.float64, copy=False))
     return arrays, (np.result_type(*dtypes) if dtypes else np.dtype(np.float64))
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..errors import SunsetError, require_finite, require_int_range
+from ..errors import SunsetError, require_finite, require_int_range, require_time
 from ..light.film import film_frame
 from ..light.geometry import Geometry
 from ..light.glitter import Glitter
@@ -41,7 +41,7 @@ def trace_geometry(scene, t: float = 0.0, reflections: int = 2, samples: int = 1
     from ..vector.render import render
 
     k = check_samples(samples)
-    require_finite("t", t)
+    require_time("t", t)
     if not checked:
         check_rgb_work(scene, samples)                # before the picture is supersampled
     frame = render(supersampled(scene, k) if k > 1 else scene, float(t), reflections)

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..constants import (FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_CYCLE_FRAMES, MAX_FILM_CYCLES, MAX_FPS,
-                         MAX_TAPE_BYTES)
+                         MAX_TAPE_BYTES, MAX_TIME)
 from ..errors import SunsetError, real_number, require_bool, require_int_range
 from ..io import all_or_nothing
 from ..tape.tapefile import Tape, write_tape
@@ -104,6 +104,9 @@ def cycle_times(scene, frames: int) -> np.ndarray:
     if period is None:
         raise SunsetError("sea.trains: the sea never repeats (frequencies must be rational multiples of the "
                           "lowest, e.g. wavelengths λ, λ/4, λ/9, …), so it has no cycle to film")
+    if period > MAX_TIME:                     # rational frequencies with large denominators: centuries
+        raise SunsetError(f"sea.trains: the sea repeats only after {period:.3g} s, past the {MAX_TIME:g} s a "
+                          "frame's time may reach (frequencies in ratios of smaller denominators repeat sooner)")
     return np.arange(frames, dtype=np.float64) * (float(period) / frames)
 
 

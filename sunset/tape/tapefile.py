@@ -35,7 +35,6 @@ from __future__ import annotations
 import hashlib
 import io
 import json
-import math
 import os
 import struct
 from dataclasses import dataclass
@@ -44,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from ..constants import MAX_TAPE_BYTES, MAX_TAPE_HEADER_BYTES, TAPE_FORMAT_VERSION
-from ..errors import SunsetError, require_finite, require_int_range, shown
+from ..errors import SunsetError, require_int_range, require_time, shown
 
 __all__ = ["Tape", "MAGIC", "tape_bytes", "parse_tape", "read_tape_stream", "write_tape", "read_tape"]
 
@@ -97,7 +96,7 @@ class Tape:
         times = np.asarray(self.times, dtype=np.float64).reshape(-1)
         if times.shape != (codes.shape[0],):
             raise SunsetError(f"times must have one entry per frame ({codes.shape[0]}), got {times.shape[0]}")
-        require_finite("times", times)
+        require_time("times", times)
         require_int_range("reflections", self.reflections, 0, 2)
         require_int_range("seed", self.seed, 0, 2**32 - 1)
         object.__setattr__(self, "codes", codes)
@@ -182,8 +181,9 @@ def _times(value, frames: int) -> np.ndarray:
     if len(value) != frames:
         raise SunsetError(f"times must hold one number per frame ({frames}), got {len(value)}")
     for k, t in enumerate(value):
-        if isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t):
+        if isinstance(t, bool) or not isinstance(t, (int, float)):
             raise SunsetError(f"times[{k}] must be a finite number, got {shown(t)}")
+        require_time(f"times[{k}]", t)             # finite, within the sea's clock (an int past float64 too)
     return np.array(value, dtype=np.float64)
 
 
@@ -203,7 +203,8 @@ def _header_fields(head, name: str):
                 raise SunsetError(f"{key} must be a positive integer, got {shown(v)}")
         n, h, w = dims
         if n * h * w > MAX_TAPE_BYTES:           # before the times, whose list would be as long as n
-            raise SunsetError(f"{n} frames of {w}x{h} is more than the {MAX_TAPE_BYTES / 2**30:g} GiB a tape may hold")
+            raise SunsetError(f"{shown(n)} frames of {shown(w)}x{shown(h)} is more than the "
+                              f"{MAX_TAPE_BYTES / 2**30:g} GiB a tape may hold")
         if not isinstance(head["scene"], str):
             raise SunsetError("scene must be TOML text")
         times = _times(head["times"], n)

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from ..constants import PART_NONE, SEA, SKY
-from ..errors import SunsetError, require_finite, require_positive
+from ..errors import SunsetError, require_positive, require_time
 from .frame import Frame
 from ..model.waves import unit_normal
 
@@ -225,7 +225,7 @@ def trace_direct_bruteforce(scene, t: float = 0.0, *, sea_step: float | None = N
         the hit point is exactly on the surface (to the bisection's float64
         precision).
     """
-    require_finite("t", t)
+    require_time("t", t)
     if sea_step is not None:
         require_positive("sea_step", sea_step)
     if island_step is not None:

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import ISLAND_SAMPLE_BUDGET, PART_NONE, SCANLINE_CHUNK_ELEMENTS, SEA, SKY
-from ..errors import SunsetError, require_finite
+from ..errors import SunsetError, require_time
 from ..kernels import enabled, row_strips, run_strips, strips, twin
 from ..model.waves import unit_normal
 from .frame import Frame
@@ -143,7 +143,7 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     equals, as merging the sea first and each island only where it is
     strictly nearer.
     """
-    require_finite("t", t)
+    require_time("t", t)
     t = float(t)
     seconds = {"sea": 0.0, "islands": 0.0, "assemble": 0.0}
     best_u, best_surf, s_all, zeta, counts = _depth_buffer(scene, t, refine_islands, islands, seconds)
@@ -209,7 +209,7 @@ def sea_depth(scene, t: float, islands: IslandPass) -> tuple:
     (best_u, best_surf (W, H) by scan line, s_all (W,), zeta (H,) bottom up), as :func:`trace_direct` makes them;
     for :func:`sea_strip`.
     """
-    require_finite("t", t)
+    require_time("t", t)
     best_u, best_surf, s_all, zeta, _ = _depth_buffer(scene, float(t), True, islands, {"sea": 0.0, "islands": 0.0})
     return best_u, best_surf, s_all, zeta
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..constants import SEA, SKY
-from ..errors import SunsetError, real_number, require_finite, require_int_range, shown
+from ..errors import SunsetError, real_number, require_int_range, require_time, shown
 from ..kernels import row_strips, run_strips
 
 
@@ -104,7 +104,7 @@ class Frame:
     sea_rays: np.ndarray | None = None
 
     def __post_init__(self):
-        require_finite("t", real_number("t", self.t))
+        require_time("t", real_number("t", self.t))
         require_int_range("reflections", self.reflections, 0, 2)
         if not isinstance(self.surface, np.ndarray) or self.surface.ndim != 2 or self.surface.dtype.kind != "i":
             raise SunsetError(f"surface must be an (H, W) integer array, got {shown(self.surface)}")

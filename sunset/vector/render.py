@@ -22,7 +22,7 @@ Reflection modes
 from __future__ import annotations
 
 
-from ..errors import real_number, require_bool, require_instance, require_int_range
+from ..errors import real_number, require_bool, require_instance, require_int_range, require_time
 from .direct import IslandPass
 from .frame import Frame
 from ..model.scene import SceneLike, as_scene
@@ -59,7 +59,7 @@ def render(scene: SceneLike, t: float = 0.0, reflections: int = 2, *, islands: I
     from .reflect import trace_reflections
 
     scene = as_scene(scene)
-    real_number("t", t)
+    require_time("t", real_number("t", t))
     require_int_range("reflections", reflections, 0, 2)
     require_bool("sea_bounces", sea_bounces)
     if islands is not None:

@@ -184,3 +184,26 @@ def test_a_missing_browser_is_one_clear_error(player, tmp_path):
     assert run.returncode == 2
     assert run.stderr.count("\n") == 1 and "did not start" in run.stderr and "Traceback" not in run.stderr
     assert not out.exists()
+
+
+@pytest.mark.parametrize("title", ["<!--<script>", "</script><script>throw new Error('ran')</script>"])
+def test_a_hostile_title_neither_stops_the_player_nor_runs(page, tmp_path, title):
+    """Issue 33: a scene titled ``<!--<script>`` kept the player from ever starting (the HTML tokenizer,
+    inside the data's <script>, never found its end). Written by the command, the player now opens,
+    plays, shows the title as text, and runs nothing from it."""
+    from sunset.model.scene import load_named_scene
+
+    p, log = page
+    scene = tmp_path / "hostile.toml"
+    scene.write_text(replace(load_named_scene("carlas-island"), title=title).to_toml(), encoding="utf-8")
+    html = tmp_path / "player.html"
+    run = subprocess.run([sys.executable, "-m", "sunset", "player", str(scene), "-o", str(html), "--frames", "2",
+                          "--size", "48x48", "--from-hours", "0.6", "--to-hours", "0.2", "--quiet"],
+                         capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    assert read_player_data(html.read_text(encoding="utf-8"))["title"] == title
+    open_player(p, html.as_uri())
+    problems, state = play(p, log, html.as_uri())
+    assert problems == [] and len(state["frames"]) > 1, (problems, state)
+    assert p.evaluate("document.title").count(title) == 1 and title in p.inner_text("body")
+    assert p.evaluate("document.querySelectorAll('script').length") == 2

@@ -96,6 +96,10 @@ def good_header(**change):
     ({"frames": True}, ["frames"]),
     ({"frames": 10**6, "height": 10**6}, ["GiB"]),
     ({"times": "x"}, ["times"]),
+    ({"times": [1e308, 0.0, 0.0]}, ["times[0] must be a time within"]),       # ω t would overflow
+    ({"times": [0.0, 10**400, 0.0]}, ["times[1] must be a finite number", " ... "]),
+    ({"times": [[0.0], [0.0], [0.0]]}, ["times[0] must be a finite number"]),
+    ({"frames": 10**400}, ["frames of 7x5 is more than", " ... "]),      # a number past 1,000 digits, cut
     ({"reflections": 7}, ["reflections"]),
 ])
 def test_forged_headers(change, words):
