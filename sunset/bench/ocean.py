@@ -9,7 +9,8 @@ Also timed: sampling a million points of the tile (bilinear, a strip at a time
 in the renderer). And a whole 8-bit frame of a wind sea (render + encode) as
 its tile holds more and more components, beside the same frame of Carla's
 Island with more and more of Max's trains (:func:`measure_wind_frames`): the
-trains' frame grows with their number, the tile's does not.
+count enters the wind sea's frame only through the tile's FFTs, whose cost
+does not depend on it.
 """
 
 from __future__ import annotations

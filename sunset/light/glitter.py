@@ -56,17 +56,19 @@ MIN_FACET_VARIANCE = 1e-4
 
 
 def facet_variances(wind) -> tuple[float, float]:
-    """(σ_u², σ_c²) of the facets: the wind's total slope variances less what the rendered tile holds.
+    """(σ_u², σ_c²) of the facets: the wind's total slope variances less what
+    the rendered tile holds.
 
     The rendered tile's share is the expected mean square of the bilinearly
     interpolated FFT gradient, Σ k_u² Ψ Δk² A(θ_x) A(θ_y) (and k_c²),
     A(θ) = (2 + cos θ)/3, θ = k Δ with Δ the tile's grid spacing.
     """
-    tile = wind.tile
+    step = wind.tile.spacing
     kx, ky = lattice(wind.tile_points, wind.tile_size)
-    shrink = (2.0 + np.cos(kx * tile.spacing)) / 3.0 * (2.0 + np.cos(ky * tile.spacing)) / 3.0
+    shrink = (2.0 + np.cos(kx * step)) / 3.0 * (2.0 + np.cos(ky * step)) / 3.0
     d = math.radians(wind.direction)
-    ku, kc = kx * math.cos(d) + ky * math.sin(d), -kx * math.sin(d) + ky * math.cos(d)
+    ku = kx * math.cos(d) + ky * math.sin(d)
+    kc = -kx * math.sin(d) + ky * math.cos(d)
     v = wind.component_variance * shrink
     tu, tc = wind.total_slopes()
     return (max(tu - float(np.sum(ku * ku * v)), MIN_FACET_VARIANCE),

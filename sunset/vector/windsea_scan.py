@@ -46,7 +46,9 @@ __all__ = ["wind_profile", "wind_columns", "wind_gradient_on_scanlines"]
 
 
 def wind_profile(sea, s, u, h: float, t: float = 0.0):
-    """g(y_i) = (z(s·y_i, y_i) − h)·u_i of a wind sea on scan lines ``s`` at samples ``u``, (C, N) float32.
+    """g(y_i) = (z(s·y_i, y_i) − h)·u_i of a wind sea, (C, N) float32.
+
+    On the scan lines ``s`` at the samples ``u``.
 
     Parameters as :func:`sunset.vector.heightfield.sea_profile`; z is the
     tile's bilinear interpolant (:meth:`~sunset.model.ocean.OceanTile.heights`),
