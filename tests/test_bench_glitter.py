@@ -45,5 +45,9 @@ def test_the_pictures_glitter_is_cox_and_munks(measured):
 def test_only_a_wind_sea_and_a_risen_sun_are_measured():
     with pytest.raises(SunsetError, match="^scene: the glitter is measured on a sea given by its wind"):
         measure_glitter(Scene.default().with_size(16, 16))
+    for kw, field in ((dict(below=-1.0), "below"), (dict(below=math.nan), "below"), (dict(hours=math.inf), "hours"),
+                      (dict(t=math.nan), "t")):
+        with pytest.raises(SunsetError, match=f"^{field}"):
+            measure_glitter(Scene.named("carlas-island-in-the-wind").with_size(16, 16), **kw)
     with pytest.raises(SunsetError, match="^hours: the sun is below the horizon"):
         measure_glitter(Scene.named("carlas-island-in-the-wind").with_size(16, 16), 0.0, -1.0)

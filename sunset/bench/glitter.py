@@ -45,7 +45,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import SunsetError
+from ..errors import SunsetError, require_finite, require_range
 from ..light.glitter import glitter_radiance, sun_irradiance
 from ..light.render import frame_light
 from ..light.shade import shade
@@ -90,6 +90,9 @@ def measure_glitter(scene, t: float = 0.0, hours: float = 0.35, below: float = 1
         the same rows as ``total``; ``variances``: the (upwind, crosswind)
         slope variances of the law, of the model and of the facets.
     """
+    require_finite("t", t)
+    require_finite("hours", hours)
+    require_range("below", below, 0.0, 45.0, "degrees")
     wind = scene.sea.wind
     if wind is None:
         raise SunsetError("scene: the glitter is measured on a sea given by its wind ([sea.wind])")
