@@ -107,3 +107,16 @@ def test_a_wind_seas_sun_is_its_facets_glitter_not_a_mirrored_disk():
     np.testing.assert_allclose(glint, want, rtol=1e-3, atol=1e-3 * float(want.max()))
     assert np.count_nonzero(glint[:, 1] > 0.01 * glint[:, 1].max()) > 20 * np.count_nonzero(
         mirror[sea, 1] - no_sun[sea, 1] > 0.01 * glint[:, 1].max())               # spread, not a few disk pixels
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_wind_seas_rgb_frame_is_the_same_bytes_on_any_number_of_threads(compiled):
+    from sunset.kernels import use_compiled, use_threads
+    from sunset.pipeline.rgb import render_rgb
+
+    scene = wind_scene(size=(40, 32))
+    out = []
+    for n in (1, 2):
+        with use_compiled(compiled), use_threads(n):
+            out.append(render_rgb(scene, 5.0, 0.35).tobytes())
+    assert out[0] == out[1]
