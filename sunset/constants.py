@@ -10,6 +10,10 @@ import math
 
 #: Standard acceleration of gravity g, in m s⁻² (deep-water dispersion ω² = g k).
 GRAVITY = 9.80665
+#: The gravity a scene may set, m s⁻²: from a small moon's (Enceladus 0.11) to beyond the Sun's surface
+#: (274); 5e-324 or 1e308 were accepted, and gave waves whose cycle or whose ω t left float64.
+MIN_GRAVITY = 0.1
+MAX_GRAVITY = 300.0
 
 #: Hour angle rate of the sun: 2π/24 radians per hour, i.e. 15° per hour
 #: (the paper's garbled "2π/2μ", READING-NOTES.md).
@@ -329,8 +333,9 @@ MAX_WINDOW_SLOPE = 10.0
 #: 1e-300 makes the sea's lattice step denormal and its sample count overflow.
 MIN_WINDOW_SPAN = 1e-9
 #: Latest time t (and earliest, −t) of a frame, seconds: about 32 years. The fastest wave allowed
-#: (MIN_WAVELENGTH) turns ω ≈ 56 rad/s, so its phase ω t stays below 6e10 rad, kept to 1e-5 rad in
-#: float64; at 1e308 s, ω t overflowed to infinity and the sea's phase raised a traceback.
+#: (MIN_WAVELENGTH) turns ω ≈ 56 rad/s under standard gravity (307 at MAX_GRAVITY), so its phase ω t
+#: stays below 3.1e11 rad, kept to 1e-4 rad in float64; at 1e308 s, ω t overflowed to infinity and
+#: the sea's phase raised a traceback.
 MAX_TIME = 1e9
 
 #: Longest wave, metres (ocean swell is at most about a kilometre long).

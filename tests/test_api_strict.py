@@ -229,3 +229,54 @@ def test_a_sea_that_repeats_after_centuries_has_no_film():
     assert scene.sea.period == pytest.approx(64 * 63 * 61 * 59 * 53 * longest, rel=1e-9) and scene.sea.period > MAX_TIME
     with pytest.raises(SunsetError, match="repeats only after 6.16e"):
         cycle_times(scene, 4)
+
+
+#: Finite numbers at the ends of float64 and of int64, and denormals: wrong for most numeric arguments
+#: (sizes, counts, gravity, hours, times), valid for a few (a phase, a position, kx, a hill's amplitude).
+EXTREMES = [1e308, -1e308, 10**18, 2**63, 5e-324, -5e-324, 1e-300]
+
+
+def test_extreme_numbers_are_refused_or_harmless():
+    """Issue 33's range class: every numeric argument of every call above, set to each of EXTREMES, gives a
+    SunsetError (within a second) or a result, never another exception nor a NumPy warning (errors here).
+    Found so: gravity 1e308 or 5e-324 (accepted), hours 1e308 in player.sun_geometry (accepted),
+    StokesWave.series_profile at k x = 1e308 (an overflow in n k x)."""
+    import time
+    import warnings
+
+    bad = []
+    for what, fn, kwargs, _, _ in CASES:
+        if what in ("make_film", "player.write_player"):
+            continue                                            # they write files: the CLI's tests
+        for name, v0 in kwargs.items():
+            if isinstance(v0, (bool, np.bool_, str, bytes)) or not isinstance(v0, (int, float, np.number, np.ndarray)):
+                continue
+            for v in EXTREMES:
+                start = time.perf_counter()
+                try:
+                    with contextlib.chdir(WORK), warnings.catch_warnings():
+                        warnings.simplefilter("error")
+                        fn(**{**kwargs, name: v})
+                except SunsetError as exc:
+                    assert "\n" not in str(exc), (what, name, v, str(exc))
+                    if time.perf_counter() - start > 1.0:       # a refusal comes before the work
+                        bad.append((what, name, v, f"refused after {time.perf_counter() - start:.1f} s"))
+                except Exception as exc:                        # noqa: BLE001 - the finding
+                    bad.append((what, name, v, f"{type(exc).__name__}: {exc}"))
+    assert bad == []
+
+
+@pytest.mark.parametrize("field, value", [("gravity", 1e308), ("gravity", 5e-324), ("gravity", 0.05)])
+def test_gravity_has_a_physical_range(field, value):
+    """5e-324 m/s² made a wave whose cycle left float64, 1e308 one whose ω t did."""
+    from dataclasses import replace
+
+    with pytest.raises(SunsetError, match=r"^gravity must be in \[0\.1, 300\] m/s²"):
+        replace(SCENE.sea.trains[0], **{field: value})
+    with pytest.raises(SunsetError, match=r"^gravity must be in \[0\.1, 300\] m/s²"):
+        replace(SCENE.sea, **{field: value})
+
+
+def test_the_player_sun_is_within_half_a_day():
+    with pytest.raises(SunsetError, match=r"^hours must be within ±12 hours"):
+        player.sun_geometry(SCENE, 1e308)

@@ -305,7 +305,7 @@ class StokesWave:
 
         require_finite("kx", kx)
         amps = stokes_coefficients(self.alpha, order)
-        X = np.asarray(kx, dtype=float)
+        X = np.remainder(np.asarray(kx, dtype=float), 2.0 * np.pi)   # n k x overflowed for k x near 1e308
         return sum(a * np.cos(n * X) for n, a in enumerate(amps, start=1))
 
 

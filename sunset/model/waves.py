@@ -34,7 +34,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..constants import GRAVITY, MAX_DEGREES, MAX_PHASE, MAX_TRAINS, MAX_WAVE_SLOPE, MAX_WAVELENGTH, MIN_WAVELENGTH
+from ..constants import (GRAVITY, MAX_DEGREES, MAX_GRAVITY, MAX_PHASE, MAX_TRAINS, MAX_WAVE_SLOPE, MAX_WAVELENGTH,
+                         MIN_GRAVITY, MIN_WAVELENGTH)
 from ..errors import (SunsetError, require_finite, require_time, require_int_range, require_items, require_nonnegative,
                       require_positive, require_range, require_scalars, shown)
 from .stokes import stokes_coefficients
@@ -90,7 +91,7 @@ class WaveTrain:
         require_range("direction", self.direction, -MAX_DEGREES, MAX_DEGREES, "degrees")
         require_range("phase", self.phase, -MAX_PHASE, MAX_PHASE, "radians")
         require_int_range("stokes_order", self.stokes_order, 1, 4)
-        require_positive("gravity", self.gravity)
+        require_range("gravity", self.gravity, MIN_GRAVITY, MAX_GRAVITY, "m/s²")
 
     @property
     def k(self) -> float:
@@ -208,7 +209,7 @@ class Sea:
 
     def __post_init__(self):
         require_scalars(self)
-        require_positive("gravity", self.gravity)
+        require_range("gravity", self.gravity, MIN_GRAVITY, MAX_GRAVITY, "m/s²")
         if self.wind is not None:
             if not isinstance(self.wind, WindSea):
                 raise SunsetError(f"wind must be a WindSea, got {shown(self.wind)}")

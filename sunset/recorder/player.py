@@ -184,6 +184,7 @@ def sun_geometry(scene, hours: float, supersample: int = SUN_SUPERSAMPLE) -> dic
     """
     scene = as_scene(scene)
     hours = real_number("hours", hours)
+    require_hours("hours", hours)
     require_int_range("supersample", supersample, 1, 64)
     rows, cols, cov = sun_coverage(scene.camera, scene.sun, hours, supersample)
     if not cov.size or not np.any(cov > 0):

@@ -53,7 +53,9 @@ def test_gravity_in_a_scene_file_round_trips():
     assert f"gravity = {MARS}" in scene.to_toml()
 
 
-@pytest.mark.parametrize("value, words", [("0.0", "must be positive"), ("-9.8", "must be positive"),
+@pytest.mark.parametrize("value, words", [("0.0", r"must be in \[0.1, 300\] m/s²"), ("-9.8", "must be in"),
+                                          ("5e-324", "must be in"), ("0.099", "must be in"), ("300.5", "must be in"),
+                                          ("1e308", "must be in"),   # issue 33: ω t or the cycle left float64
                                           ("nan", "finite"), ("inf", "finite"), ('"9.8"', "must be a number"),
                                           ("true", "must be a number")])
 def test_bad_gravity_is_named(value, words):
