@@ -87,7 +87,8 @@ def test_the_measured_peak_is_within_twice_the_prediction(name, bottom, log_tall
     scene = windowed(name, bottom, 10.0**log_tall, width, height)
     args = ["--shading", "rgb", "--samples", "4"] if rgb else []
     want = predicted(scene, rgb, threads)
-    got = measure_command_peak(scene, args, compiled=compiled, threads=threads)
+    bound = None if want is None else int(2 * RATIO * want) + (256 << 20)   # a wrong prediction fails, bounded
+    got = measure_command_peak(scene, args, compiled=compiled, threads=threads, limit=bound)
     note(f"measured {got}, predicted {want}")
     if want is None:                                       # refused by the budget: refused by the command, at once
         assert got["rc"] == 2 and got["stderr"].count("\n") == 2 and "sunset: error:" in got["stderr"]
@@ -160,3 +161,12 @@ def test_the_bench_row_reports_each_case():
     for r in rows:
         assert r["rc"] == 0 and 0 < r["work"] <= RATIO * r["predicted"] and r["interpreter"] <= INTERPRETER_BYTES
         assert r["ratio"] == r["work"] / r["predicted"]
+
+
+def test_the_measuring_process_is_bounded():
+    """measure_command_peak's child may grow by at most ``limit`` bytes: past it the render runs out of memory
+    (one line, exit 2) instead of taking the machine, as the issue's sliver once took 23 GB."""
+    scene = windowed("carlas-island", -0.42, 0.6, 320, 320)
+    got = measure_command_peak(scene, compiled=False, threads=1, limit=1 << 20)
+    assert got["rc"] == 2 and got["stderr"].strip() == "sunset: error: out of memory (use a smaller picture or fewer frames)"
+    assert got["work"] < 64 << 20

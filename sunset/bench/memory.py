@@ -92,7 +92,7 @@ def measure_rgb_bytes(scene, samples: int = 4, sizes=((100, 80), (200, 160))) ->
 
 # --------------------------------------------------------------------------- the peak of a whole command, measured
 def measure_command_peak(scene, args=(), compiled: bool | None = None, threads: int | None = None,
-                         timeout: float = 600.0) -> dict:
+                         timeout: float = 600.0, limit: int | None = None) -> dict:
     """The resident memory of ``sunset render`` on ``scene``, measured in a fresh process: the interpreter's, the work's.
 
     A fresh Python (started through ``/bin/sh``, which forks it: a process
@@ -104,9 +104,12 @@ def measure_command_peak(scene, args=(), compiled: bool | None = None, threads: 
     forks, and the child renders the scene at its size: the child's
     ``ru_maxrss`` starts at what it holds at the fork, and its growth during
     the render is the work's peak. ``compiled`` sets ``SUNSET_COMPILED``,
-    ``threads`` ``SUNSET_THREADS`` (default: the environment's). Returns
-    ``{"rc", "interpreter", "work", "seconds", "stderr"}`` (bytes, the exit
-    status of the render).
+    ``threads`` ``SUNSET_THREADS`` (default: the environment's). The child
+    may grow its address space by at most ``limit`` bytes (``RLIMIT_AS``;
+    default twice ``MAX_FRAME_BYTES``), so that a prediction gone wrong
+    fails the render (out of memory, exit status 2) instead of the machine.
+    Returns ``{"rc", "interpreter", "work", "seconds", "stderr"}`` (bytes,
+    the exit status of the render).
     """
     import json
     import os
@@ -120,6 +123,10 @@ def measure_command_peak(scene, args=(), compiled: bool | None = None, threads: 
         env["SUNSET_COMPILED"] = "1" if compiled else "0"
     if threads is not None:
         env["SUNSET_THREADS"] = str(threads)
+    if limit is None:
+        from ..constants import MAX_FRAME_BYTES
+        limit = 2 * MAX_FRAME_BYTES
+    env["SUNSET_PEAK_LIMIT"] = str(int(limit))
     with tempfile.TemporaryDirectory(prefix="sunset-peak-") as tmp:
         path = Path(tmp) / "scene.toml"
         path.write_text(scene.to_toml(), encoding="utf-8")
@@ -155,6 +162,7 @@ def _peak_child(argv) -> None:
     if pid == 0:                                   # pragma: no cover - the child reports through the pipe
         try:
             os.close(read)
+            _limit_growth(int(os.environ.get("SUNSET_PEAK_LIMIT", "0")))
             base = maxrss()
             start = time.perf_counter()
             rc = main(["render", scene, "--size", size, "-o", os.path.join(tmp, "frame.png"), "-q", *args])
@@ -215,3 +223,16 @@ def measure_budget(cases=BUDGET_CASES) -> list[dict]:
                          "interpreter": got["interpreter"], "work": got["work"], "predicted": predicted,
                          "ratio": got["work"] / predicted, "seconds": got["seconds"], "threads": threads})
     return rows
+
+
+def _limit_growth(limit: int) -> None:
+    """Let this process's address space grow by at most ``limit`` bytes from now (0: no limit)."""
+    import resource
+
+    if limit <= 0:
+        return
+    with open("/proc/self/status", encoding="ascii") as fh:
+        size = next(int(line.split()[1]) * 1024 for line in fh if line.startswith("VmSize:"))
+    hard = resource.getrlimit(resource.RLIMIT_AS)[1]
+    soft = size + limit if hard == resource.RLIM_INFINITY else min(size + limit, hard)
+    resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
