@@ -418,9 +418,9 @@ def domb_sykes(coefficients, stride: int = 1, shift: int = 0, fit_last: int = 10
     if not np.all(np.isfinite(b)):
         raise SunsetError("domb_sykes: the coefficients must be finite in float64")
     if len(b) <= fit_last:                  # the count, not fit_last's default, is what is short
-        raise SunsetError(f"domb_sykes: fitting the last fit_last = {shown(fit_last)} ratios needs one coefficient "
-                          f"more than that after stride {stride} and shift {shift}, got {len(b)} of "
-                          f"{len(values)}")
+        raise SunsetError(f"domb_sykes: {len(values)} coefficients, {len(b)} after stride {stride} and shift "
+                          f"{shift}, give {len(b) - 1} ratios, fewer than the fit_last = {shown(fit_last)} fitted: "
+                          f"pass more coefficients or a smaller fit_last")
     k = np.arange(1, len(b))
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         ratios = b[1:] / b[:-1]

@@ -289,8 +289,9 @@ def test_domb_sykes_on_a_known_function():
 @pytest.mark.parametrize("coefficients, kwargs, words", [
     ([1.0], {}, "needs at least 3 coefficients, got 1"),
     ([1.0, 0.5], {"fit_last": 2}, "needs at least 3 coefficients, got 2"),
-    ([1.0, 0.5, 0.25, 0.125], {}, r"fit_last = 10 ratios needs one coefficient more .* got 4 of 4"),
-    ([1.0] * 20, {"stride": 3, "fit_last": 10}, r"stride 3 and shift 0, got 7 of 20"),
+    ([1.0, 0.5, 0.25, 0.125], {}, r"^domb_sykes: 4 coefficients, 4 after stride 1 and shift 0, give 3 "
+                                     r"ratios, fewer than the fit_last = 10 fitted: pass more coefficients"),
+    ([1.0] * 20, {"stride": 3, "fit_last": 10}, r"20 coefficients, 7 after stride 3 and shift 0, give 6 ratios"),
     ([1.0] * 20, {"fit_last": 10**5000}, r"fit_last = an integer of"),
     ([1.0] * 20, {"fit_last": "3"}, r"fit_last must be an integer, got 3 \(str\)"),
 ])
