@@ -17,8 +17,8 @@ that falls on the texture, ``kept`` = covered area / area; the caller books
 the rest. A triangle wholly inside the texture's rows keeps all of its flux
 (its texels' shares are normalised by their sum, so that the flux is
 conserved to round-off however thin it is); one whose area is zero (three
-points on a line, the fold of a caustic exactly) puts its flux in the texel
-of its centroid.
+points on a line, the fold of a caustic exactly; :data:`FLAT`) puts its flux
+in the texel of its centroid.
 """
 
 from __future__ import annotations
@@ -31,6 +31,11 @@ __all__ = ["rasterise", "triangle_area", "clip_area"]
 
 #: Vertices a triangle clipped by a square can have.
 MAX_VERTICES = 8
+#: A triangle whose area is under FLAT × its extent² is a segment or a point (its area is round-off): it puts
+#: its flux in the texel of its centroid.
+FLAT = 1e-12
+#: (Triangle, texel) pairs the NumPy reference clips at once: its memory stays bounded (some 200 bytes a pair).
+PAIRS = 1 << 17
 
 
 def triangle_area(u, v) -> np.ndarray:
@@ -108,28 +113,43 @@ def rasterise(u, v, flux, n_u: int, n_v: int) -> tuple[np.ndarray, np.ndarray]:
     j1 = np.minimum(np.floor(v.max(axis=1)), n_v - 1).astype(np.int64)
     inside = (v.min(axis=1) >= 0) & (v.max(axis=1) <= n_v)
     # the zero-area ones: the centroid's texel, if it lies on the texture
-    flat = area <= 0
+    # zero area, or an area below the round-off of its corners (three points on a line)
+    extent = np.maximum(np.ptp(u, axis=1), np.ptp(v, axis=1))
+    flat = ~(area > FLAT * extent * extent)
     cu, cv = u.mean(axis=1), v.mean(axis=1)
     on = flat & (cv >= 0) & (cv < n_v)
     kept[on] = 1.0
     cells = np.floor(cv[on]).astype(np.int64) * n_u + np.mod(np.floor(cu[on]).astype(np.int64), n_u)
-    # every (triangle, texel) pair of the others' bounding boxes
+    # every (triangle, texel) pair of the others' bounding boxes, at most about PAIRS of them at a time (a
+    # beam from far out at sea can land over hundreds of texels of a cliff)
     live = ~flat & (j1 >= j0)
     ni, nj = i1 - i0 + 1, j1 - j0 + 1
     counts = np.where(live, ni * nj, 0)
-    tri = np.repeat(np.arange(T), counts)
-    rank = np.arange(tri.size) - np.repeat(np.cumsum(counts) - counts, counts)
-    ti = i0[tri] + rank // nj[tri]
-    tj = j0[tri] + rank % nj[tri]
-    cover = clip_area(u[tri], v[tri], ti, tj)
-    total = np.bincount(tri, weights=cover, minlength=T)
-    norm = np.where(inside, total, area)
+    total = np.zeros(T)
+    ends = np.cumsum(counts)
+    start = 0
+    while start < T:
+        stop = max(int(np.searchsorted(ends, (ends[start - 1] if start else 0) + PAIRS, side="right")), start + 1)
+        group = np.arange(start, min(stop, T))
+        start = int(group[-1]) + 1
+        c = counts[group]
+        if not c.sum():
+            continue
+        tri = np.repeat(group, c)
+        rank = np.arange(tri.size) - np.repeat(np.cumsum(c) - c, c)
+        ti = i0[tri] + rank // nj[tri]
+        tj = j0[tri] + rank % nj[tri]
+        cover = clip_area(u[tri], v[tri], ti, tj)
+        local = tri - group[0]
+        total[group] = np.bincount(local, weights=cover, minlength=group.size)
+        norm = np.where(inside[group], total[group], area[group])[local]
+        share = cover / np.where(norm > 0, norm, 1.0)
+        where = tj * n_u + np.mod(ti, n_u)
+        for ch in range(C):
+            out[:, ch] += np.bincount(where, weights=share * flux[tri, ch], minlength=n_v * n_u)
     kept_live = np.where(inside, 1.0, np.minimum(total / np.where(area > 0, area, 1.0), 1.0))
     kept[live] = kept_live[live]
-    share = cover / np.where(norm[tri] > 0, norm[tri], 1.0)
-    where = tj * n_u + np.mod(ti, n_u)
     for ch in range(C):
-        out[:, ch] += np.bincount(where, weights=share * flux[tri, ch], minlength=n_v * n_u)
         out[:, ch] += np.bincount(cells, weights=flux[on, ch], minlength=n_v * n_u)
     # a live triangle whose clipped areas all came out 0 (thinner than round-off): its centroid, as a flat one
     lost = live & (total <= 0) & inside

@@ -89,3 +89,28 @@ def test_the_compiled_rasteriser_agrees_within_its_tolerance():
     got_tex, got_kept = rasterise.compiled()(u, v, flux, 36, 20)
     np.testing.assert_allclose(got_tex, ref_tex, rtol=0, atol=RASTER_RTOL * ref_tex.max())
     np.testing.assert_allclose(got_kept, ref_kept, rtol=0, atol=RASTER_RTOL)
+
+
+def test_the_reference_clips_a_bounded_number_of_pairs_at_a_time(monkeypatch):
+    """The NumPy rasteriser in groups of at most PAIRS (triangle, texel) pairs (a group of one triangle where one
+    alone covers more): the same texture to round-off, and its traced peak bounded by the groups, not the input."""
+    import tracemalloc
+
+    from sunset.light import raster
+
+    rng = np.random.default_rng(3)
+    u, v, flux = _triangles(rng, 4000, 40, 30)
+    u[10:60] = u[10:60, :1] + rng.uniform(-15, 15, (50, 3))        # large triangles: hundreds of texels each
+    v[10:60] = v[10:60, :1] + rng.uniform(-12, 12, (50, 3))
+    whole_tex, whole_kept = rasterise.reference(u, v, flux, 40, 30)
+    pairs = int(np.sum((np.floor(u.max(axis=1)) - np.floor(u.min(axis=1)) + 1) * 30))
+    assert pairs > 20 * 1000
+    monkeypatch.setattr(raster, "PAIRS", 1000)
+    tracemalloc.start()
+    tex, kept = rasterise.reference(u, v, flux, 40, 30)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    np.testing.assert_allclose(tex, whole_tex, rtol=1e-12, atol=1e-15)
+    np.testing.assert_array_equal(kept, whole_kept)
+    # the per-triangle arrays and a group's pairs (some 2 MB here), not every pair at once (24 MB here)
+    assert peak < 8 * 2**20
