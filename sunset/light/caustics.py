@@ -58,8 +58,8 @@ __all__ = ["Nodes", "Books", "trace_beams", "trace_photons", "CUTS", "REFINE_TOL
            "BLOCK_VERTICES"]
 
 #: Halvings that find where a status changes along a beam's edge, beyond log₂ of the mesh's cells across: the
-#: place to 2⁻⁴ of the edge over the cells across, so that the cut's error falls faster than the beams' own.
-CUTS = 4
+#: place to a quarter of the edge over the cells across, so that the cut's error falls as a cell's area does.
+CUTS = 2
 #: A beam that lands at a glance on the receiver (cosine of incidence under REFINE_COSINE at a corner, near
 #: its silhouette, where the landing point moves as the square root of the distance to the silhouette) is
 #: halved (into four) while the middle of one of its edges lands farther than REFINE_TOLERANCE texels and
@@ -376,17 +376,19 @@ def trace_beams(receiver, n_a: int, n_b: int, tolerance: float = REFINE_TOLERANC
 
 
 def trace_photons(receiver, rays: int, seed: int, splat) -> Books:
-    """The photon estimate of the same light: ``rays`` random points of the patch (a jittered √N × √N grid),
-    each carrying ωJ/N, landing as points; ``splat(u, v, flux, shape)`` turns the landing points into a
-    texture (a histogram, or a kernel estimate). The same books as :func:`trace_beams`."""
+    """The photon estimate of the same light: ``rays`` random points of the patch (a jittered √N × √N grid,
+    drawn a block at a time: the memory stays bounded for 10⁸ of them), each carrying ωJ/N, landing as points;
+    ``splat(u, v, flux, shape)`` turns the landing points into a texture (a histogram, or a kernel estimate).
+    The same books as :func:`trace_beams`."""
     books = Books(np.zeros(receiver.shape_reflected), np.zeros(receiver.shape_refracted))
     m = int(np.ceil(np.sqrt(rays)))
-    rng = np.random.default_rng(seed)
-    k = np.arange(rays)
-    a = np.minimum((k // m + rng.random(rays)) / m, 1.0)
-    b = np.minimum((k % m + rng.random(rays)) / m, 1.0)
+    # the jitter of a and of b from two streams, drawn a block at a time (the same numbers for any block size)
+    rng_a, rng_b = (np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(2))
     for i0 in range(0, rays, BLOCK_VERTICES):
-        nodes = receiver.evaluate(a[i0:i0 + BLOCK_VERTICES], b[i0:i0 + BLOCK_VERTICES])
+        k = np.arange(i0, min(rays, i0 + BLOCK_VERTICES))
+        a = np.minimum((k // m + rng_a.random(k.size)) / m, 1.0)
+        b = np.minimum((k % m + rng_b.random(k.size)) / m, 1.0)
+        nodes = receiver.evaluate(a, b)
         w = nodes.flux / rays
         status = nodes.status
         books.add("in", np.sum(w))
