@@ -316,6 +316,17 @@ RIPPLE_MESH = 1 << 18
 RIPPLE_SLOPE_SIGMAS = 2.0
 #: How far inland of the mean water line an island's shore band runs, metres (sunset/light/shore.py).
 SHORE_INLAND = 120.0
+#: The beams' side on the water along a shore, metres, and the most corners its mesh takes by default
+#: (sunset/light/shore.py).
+SHORE_CELL = 0.5
+SHORE_MESH = 1 << 16
+#: The beams along a shore are at least this many to a texel's height by default, no more (sunset/light/shore.py).
+SHORE_TEXEL_CELLS = 5
+#: The RGB back end's shore textures: a texel about SHORE_TEXEL_PIXELS pixels across at the island's nearest
+#: water line, between SHORE_MIN_TEXELS and SHORE_TEXELS across the band (sunset/light/shore.py).
+SHORE_TEXEL_PIXELS = 2.0
+SHORE_MIN_TEXELS = 4
+SHORE_TEXELS = 32
 #: Depths at which the RGB back end tabulates a cloud's light for an hour (sunset/light/lighting.py).
 CLOUD_TABLE_DEPTHS = 64
 

@@ -71,16 +71,17 @@ def shade_scene_linear(geometry: Geometry, light: Lighting, k: int = 1) -> np.nd
     return scene_linear(box_filter(shade(geometry, light), k), light.scale).astype(np.float32)
 
 
-def frame_light(scene, t: float, hours: float, shore: bool = False) -> Lighting:
-    """The light of one frame: the hour's sky and sun, the scene's clouds, and the ripples of light on its
-    posts at time ``t`` (:func:`sunset.light.ripples.ripple_source`), which depend on the waves' time too;
-    with the sun's centre below the horizon there is no sunlight for the waves to throw, and no ripples.
-
-    With ``shore=True`` the islands' shores near the water line get the light the waves throw on them as well
-    (:func:`sunset.light.shore.shore_source`, one light tracing per island: off by default, it costs seconds).
+def frame_light(scene, t: float, hours: float, shore: bool = True) -> Lighting:
+    """The light of one frame: the hour's sky and sun, the scene's clouds, and the ripples of light the waves
+    throw at time ``t`` on its posts (:func:`sunset.light.ripples.ripple_source`) and on its islands' shores
+    near the water line (:func:`sunset.light.shore.shore_source`, unless ``shore`` is False), which depend on
+    the waves' time as well as the hour; with the sun's centre below the horizon there is no sunlight for the
+    waves to throw, and no ripples.
     """
     light = Lighting.for_scene(scene, hours)
-    if scene.posts and light.sun_dir[2] > 0.0:   # after sunset no sunlight reaches the waves: no ripples
+    if light.sun_dir[2] <= 0.0:                 # after sunset no sunlight reaches the waves: no ripples
+        return light
+    if scene.posts:
         from .ripples import ripple_source
 
         light.extra_irradiance.append(ripple_source(scene, float(t), float(hours), light))

@@ -31,24 +31,38 @@ gradient: A = ∫∫ r √(1 + |∇H|²) dφ dw, by the midpoint rule on
 :data:`AREA_SUBSAMPLES`² points per texel (:func:`texel_areas`). A texel's
 irradiance, relative to the direct sun's E, is the flux it gathered over A.
 
-The patch and the rays
-----------------------
+The patch and the light
+-----------------------
 The patch is the water along the sun-facing shore: azimuths within π/2 + 2α
 of the sun's (α as for the post), and from the highest water line (where the
 island stands at the sea's highest crest, inland of the mean one) out to L
 metres seawards of the mean water line, L chosen as
 :func:`sunset.light.ripples.patch_geometry` chooses it for a post whose top is
-the highest point of the band. N sun rays land on a jittered √N × √N grid in
-(φ, w), each carrying E sin e times its share r ΔφΔw of the horizontal area.
-A ray whose path from the sun crosses the island lands in its shadow; one
-that lands where the island stands above the waves at that moment lands on
-the island (neither is traced on). The rest reflect and refract as on the
-post and are pierced against the island.
+the highest point of the band. Its parameters (a, b) ∈ [0, 1]² are the
+azimuth and the distance inland, with the area element J = r 2(π/2 + 2α)(w_in + L).
+The tracers of :mod:`sunset.light.caustics` run over it, the beams by default:
+at each point the water's light, its shadows, Fresnel's split and the two rays
+are :func:`sunset.light.sunrays.sun_points`'s. Water where the island stands
+above the waves at that moment is dry land (the light fell on the island);
+water whose sun ray crosses an island lies in its shadow. A reflected ray
+lands on this island only if no other island stands in its way
+(:func:`sunset.vector.pierce.pierce_islands` over all of them: the nearest
+is the one it meets); a refracted ray lands on this island's sea bed. As on
+the post, the crests' and the islands' shadows are looked for only where a
+ray lands.
 
 Bookkeeping: every ray's flux ends in one account of
-:attr:`ShoreTexture.accounts`, which add up to the flux in. Left out: other
-islands (in front of this one, or receiving its light), the reflected ray
-meeting another wave on its way, and light after two bounces.
+:attr:`ShoreTexture.accounts`, which add up to the flux in. Left out: the
+reflected ray meeting another wave on its way, and light after two bounces.
+
+The owner of a point
+--------------------
+:func:`shore_source` lights the points of the RGB back end's direct rays that
+lie on an island with that island's texture only: the point belongs to the
+island whose surface (with its cosine terms) is nearest above or below it,
+within :data:`OWNER_TOLERANCE`. A band's coordinates (φ, w) reach 80 m and
+more out to sea, over the water in front of another island, and a point of
+that island there is not on this one's shore.
 """
 
 from __future__ import annotations
@@ -58,19 +72,25 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import RIPPLE_BANDWIDTH_TEXELS, RIPPLE_MAX_RAYS, RIPPLE_MAX_REACH, RIPPLE_SLOPE_SIGMAS, SHORE_INLAND
+from ..constants import (RIPPLE_BANDWIDTH_TEXELS, RIPPLE_MAX_RAYS, RIPPLE_MAX_REACH, RIPPLE_SLOPE_SIGMAS,
+                         SHORE_CELL, SHORE_INLAND, SHORE_MESH, SHORE_MIN_TEXELS, SHORE_TEXEL_CELLS,
+                         SHORE_TEXEL_PIXELS, SHORE_TEXELS)
 from ..errors import SunsetError, require_finite, require_int_range
 from ..model.sky import spectral_data
-from ..vector.pierce import pierce_island
-from .fresnel import reflectance, refract
-from .ripples import _splat, rms_slope
+from ..vector.pierce import pierce_island, pierce_islands
+from .caustics import LIT, MAX_REFINE, Nodes, trace_beams, trace_photons
+from .postrays import rms_slope
+from .ripples import METHODS, _mesh, _splat, histogram
+from .sunrays import in_shadow, sea_table, sun_points
 from .water import absorption, scattering
 
-__all__ = ["ShoreTexture", "trace_shore", "water_line", "radius_at", "smooth_surface", "texel_areas", "shore_lookup",
-           "shore_source", "AREA_SUBSAMPLES"]
+__all__ = ["ShoreTexture", "ShoreReceiver", "trace_shore", "water_line", "radius_at", "smooth_surface", "texel_areas",
+           "shore_lookup", "owner", "shore_source", "frame_texels", "AREA_SUBSAMPLES", "OWNER_TOLERANCE"]
 
 #: Midpoint-rule points per texel side for the texels' true areas.
 AREA_SUBSAMPLES = 8
+#: How far (m, vertically) a point may lie from an island's surface and still be that island's (:func:`owner`).
+OWNER_TOLERANCE = 0.5
 
 
 @dataclass(frozen=True)
@@ -83,7 +103,8 @@ class ShoreTexture:
     metres inland of the mean water line are the texel centres; ``area`` (n_w, n_φ) the texels' true
     areas (m²) and ``height`` (n_w, n_φ) the smooth surface's height at their centres (m above mean sea
     level); ``accounts`` the flux of every ray by where it ended (relative to E, m²; refracted ones
-    averaged over wavelength).
+    averaged over wavelength). ``method``, ``cell``, ``rays`` and ``bandwidth`` as for
+    :class:`~sunset.light.ripples.RippleTexture`; ``reach`` the patch's L, m.
     """
 
     island_index: int
@@ -97,6 +118,8 @@ class ShoreTexture:
     rays: int
     bandwidth: float
     reach: float
+    method: str = "beams"
+    cell: float = 0.0
 
 
 def _quadratic_form(par, phi):
@@ -166,10 +189,116 @@ def _surface_coordinates(island, p):
     return phi, water_line(island, phi) - np.hypot(p[..., 0] - island.x, p[..., 1] - island.y)
 
 
-def trace_shore(scene, island_index: int = 0, t: float = 0.0, hours: float = 2.0, rays: int = 1 << 17,
-                texels: int = 32, inland: float | None = None, bandwidth: float | None = None,
-                seed: int = 0) -> ShoreTexture:
-    """Trace sun rays off the water along the sun-facing shore of one island at time ``t``.
+class ShoreReceiver:
+    """One island's shore and the water along it for :mod:`sunset.light.caustics` (module docstring)."""
+
+    dark_names = {1: "in the waves' shadow", 2: "fell on the island", 3: "in an island's shadow"}
+    reflected_names = {0: "reflected onto the shore", 1: "reflected past it", 2: "reflected back into the water",
+                       3: "reflected onto another island"}
+    refracted_names = {0: "refracted onto the shore", 1: "refracted elsewhere"}
+    reflected_clipped = "reflected onto the island beyond the band"
+    refracted_clipped = "refracted elsewhere"
+
+    def __init__(self, scene, island_index: int, t: float, hours: float, texels: int, inland, shadows: bool = True,
+                 refracted: bool = True):
+        island, sea = scene.islands[island_index], scene.sea
+        self.islands, self.island, self.index, self.shadows = scene.islands, island, island_index, shadows
+        self.refracted = refracted
+        if not refracted:
+            self.refracted_names = {0: "refracted onto the shore", 1: "refracted into the sea (not traced)"}
+        p = self.p = scene.sun.position(float(hours))
+        if p[2] <= 0.0 or math.hypot(p[0], p[1]) < 1e-9:
+            raise SunsetError("the sun must be above the horizon and not overhead to light the shore from the water")
+        self.phi_sun = math.atan2(p[1], p[0])
+        ring = np.linspace(0.0, 2.0 * math.pi, 721)[:-1]
+        r_min = float(water_line(island, ring).min())
+        if r_min <= 0.0:
+            raise SunsetError("the island does not reach the sea level: it has no shore")
+        far = min(SHORE_INLAND, 0.5 * r_min) if inland is None else float(inland)
+        require_finite("inland", far)
+        if not 0.0 < far <= 0.9 * r_min:
+            raise SunsetError(f"inland must lie in (0, {0.9 * r_min:.4g}] m (short of the apex), got {far!r}")
+        # the patch's reach, as for a post whose top is the band's highest point
+        e = math.asin(min(1.0, p[2]))
+        alpha = math.atan(RIPPLE_SLOPE_SIGMAS * rms_slope(sea))
+        low = max(e - 2.0 * alpha, e / 3.0)
+        top = float(smooth_surface(island, *_points(island, ring, far)[:2])[0].max())
+        self.L = min((top + sea.max_elevation) / math.tan(low), RIPPLE_MAX_REACH)
+        self.half = 0.5 * math.pi + min(2.0 * alpha, math.radians(60.0))
+        self.w_in = float((water_line(island, ring) - radius_at(island, ring, sea.max_elevation)).max())
+        self.w_edges = np.linspace(-self.L, far, texels + 1)
+        dw = self.w_edges[1] - self.w_edges[0]
+        self.r_bar = float(water_line(island, self.phi_sun))
+        n_phi = max(8, int(round(2.0 * math.pi * self.r_bar / dw)))
+        self.phi_edges = np.linspace(0.0, 2.0 * math.pi, n_phi + 1)
+        lam = spectral_data().wavelengths
+        self.attenuation = absorption(lam) + scattering(lam)
+        self.shape_reflected = (texels, n_phi)
+        self.shape_refracted = (texels, n_phi, len(lam))
+        self.table = sea_table(sea, t)
+
+    @property
+    def area(self) -> float:
+        """The patch's horizontal area, m² (∫∫ J da db by the midpoint rule in a)."""
+        a = (np.arange(256) + 0.5) / 256
+        phi = self.phi_sun + (2.0 * a - 1.0) * self.half
+        r_out = water_line(self.island, phi) + 0.5 * (self.L - self.w_in)
+        return float(np.mean(r_out) * 2.0 * self.half * (self.w_in + self.L))
+
+    def _coordinates(self, hit):
+        phi, w = _surface_coordinates(self.island, hit)
+        dphi, dw = self.phi_edges[1] - self.phi_edges[0], self.w_edges[1] - self.w_edges[0]
+        return phi / dphi, (w - self.w_edges[0]) / dw
+
+    def _glance(self, hit, d):
+        _, gx, gy = smooth_surface(self.island, hit[:, 0], hit[:, 1])
+        return (gx * d[:, 0] + gy * d[:, 1] - d[:, 2]) / np.sqrt(1.0 + gx * gx + gy * gy)
+
+    def evaluate(self, a, b) -> Nodes:
+        a, b = np.asarray(a, float), np.asarray(b, float)
+        island, p = self.island, self.p
+        phi = self.phi_sun + (2.0 * a - 1.0) * self.half
+        w = self.w_in - b * (self.w_in + self.L)
+        x, y, r = _points(island, phi, w)
+        sp = sun_points(self.table, x, y, p)
+        q = sp.q
+        dry = smooth_surface(island, x, y)[0] >= q[:, 2]
+        down = sp.reflected[:, 2] <= 0.0
+        t_r, which, _ = pierce_islands(self.islands, 0.0, q, np.where(down[:, None], [0.0, 0.0, 1.0], sp.reflected))
+        code_r = np.where(down, 2, np.where(~np.isfinite(t_r), 1, np.where(which == self.index + 1, 0, 3)))
+        t_t = pierce_island(island, 0.0, q, sp.refracted)[0] if self.refracted else np.full(len(a), np.inf)
+        code_t = np.where(np.isfinite(t_t), 0, 1)
+        lands = ~dry & ((code_r == 0) | (code_t == 0))
+        dark = np.zeros(len(a), np.int64)
+        dark[dry] = 2
+        sel = np.flatnonzero(lands)
+        if sel.size:                       # the islands' and the crests' shadows where light lands
+            behind = np.isfinite(pierce_islands(self.islands, 0.0, q[sel], np.broadcast_to(p, (sel.size, 3)))[0])
+            dark[sel[behind]] = 3
+            waves = in_shadow(self.table, x, y, q[:, 2], sp.omega, p, lands & (dark == 0) & self.shadows)
+            dark[lands & (dark == 0) & waves] = 1
+        status = np.where(dark > 0, dark, LIT + 10 * code_r + code_t)
+        on_r, on_t = (status >= LIT) & (code_r == 0), (status >= LIT) & (code_t == 0)
+        ur, vr, ut, vt = (np.full(len(a), np.nan) for _ in range(4))
+        path, glance = np.zeros(len(a)), np.ones(len(a))
+        if np.any(on_r):
+            hit = q[on_r] + t_r[on_r, None] * sp.reflected[on_r]
+            ur[on_r], vr[on_r] = self._coordinates(hit)
+            glance[on_r] = self._glance(hit, sp.reflected[on_r])
+        if np.any(on_t):
+            hit = q[on_t] + t_t[on_t, None] * sp.refracted[on_t]
+            ut[on_t], vt[on_t] = self._coordinates(hit)
+            glance[on_t] = np.minimum(glance[on_t], self._glance(hit, sp.refracted[on_t]))
+            path[on_t] = t_t[on_t]
+        flux = sp.omega * r * 2.0 * self.half * (self.w_in + self.L)
+        return Nodes(a, b, status.astype(np.int64), flux, sp.R, ur, vr, ut, vt, path, glance)
+
+
+def trace_shore(scene, island_index: int = 0, t: float = 0.0, hours: float = 2.0, *, method: str = "beams",
+                cell: float | None = None, rays: int = 1 << 17, texels: int = 32, inland: float | None = None,
+                bandwidth: float | None = None, seed: int = 0, shadows: bool = True, refine: int = 0,
+                refracted: bool = True) -> ShoreTexture:
+    """Trace the sunlight off the water along the sun-facing shore of one island at time ``t``.
 
     Parameters
     ----------
@@ -181,8 +310,15 @@ def trace_shore(scene, island_index: int = 0, t: float = 0.0, hours: float = 2.0
         Time, seconds (the waves move).
     hours : float
         Hours before sunset: the sun's direction.
+    method : {"beams", "photons"}
+        The density estimate (:mod:`sunset.light.ripples`).
+    cell : float, optional
+        Beams: the side of a cell of the mesh on the water, metres (by default
+        :data:`~sunset.constants.SHORE_CELL`, or larger where the patch would need more than
+        :data:`~sunset.constants.SHORE_MESH` corners or a texel's height would hold more than
+        :data:`~sunset.constants.SHORE_TEXEL_CELLS` cells).
     rays : int
-        Sun rays on the patch (1 to :data:`~sunset.constants.RIPPLE_MAX_RAYS`).
+        Photons: how many (1 to :data:`~sunset.constants.RIPPLE_MAX_RAYS`).
     texels : int
         Texels across the band, from L out at sea to ``inland`` metres inland of the mean water line;
         about square at the water line, so about 2π r̄_w/Δw round the island.
@@ -190,115 +326,61 @@ def trace_shore(scene, island_index: int = 0, t: float = 0.0, hours: float = 2.0
         How far inland of the mean water line the band runs, metres (default
         :data:`~sunset.constants.SHORE_INLAND`, at most half the water line's least radius).
     bandwidth : float, optional
-        The kernel's radius h, metres (default :data:`~sunset.constants.RIPPLE_BANDWIDTH_TEXELS` texels).
+        Photons: the kernel's radius h, metres (default :data:`~sunset.constants.RIPPLE_BANDWIDTH_TEXELS`
+        texels; 0: a histogram).
     seed : int
-        Seed of the jitter: the same seed gives the same texture.
+        Photons: the seed of their jittered grid.
+    shadows : bool
+        Whether crests shadow the water behind them.
+    refine : int
+        Beams: halvings of the beams that land at a glance (0 to :data:`~sunset.light.caustics.MAX_REFINE`).
+    refracted : bool
+        Whether to trace the refracted light onto the sea bed (False: it is booked as going into the sea, and
+        the ``refracted`` texture is 0; the RGB back end shows the reflected light alone).
     """
     if not scene.islands:
         raise SunsetError("the scene has no islands to light")
     require_int_range("island_index", island_index, 0, len(scene.islands) - 1)
     require_finite("t", t)
     require_finite("hours", hours)
-    require_int_range("rays", rays, 1, RIPPLE_MAX_RAYS)
+    if method not in METHODS:
+        raise SunsetError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     require_int_range("texels", texels, 2, 4096)
-    island, sea = scene.islands[island_index], scene.sea
-    p = scene.sun.position(float(hours))
-    horiz = math.hypot(p[0], p[1])
-    if p[2] <= 0.0 or horiz < 1e-9:
-        raise SunsetError("the sun must be above the horizon and not overhead to light the shore from the water")
-    phi_sun = math.atan2(p[1], p[0])
-    ring = np.linspace(0.0, 2.0 * math.pi, 721)[:-1]
-    r_min = float(water_line(island, ring).min())
-    if r_min <= 0.0:
-        raise SunsetError("the island does not reach the sea level: it has no shore")
-    far = min(SHORE_INLAND, 0.5 * r_min) if inland is None else float(inland)
-    require_finite("inland", far)
-    if not 0.0 < far <= 0.9 * r_min:
-        raise SunsetError(f"inland must lie in (0, {0.9 * r_min:.4g}] m (short of the apex), got {far!r}")
-    # the patch's reach, as for a post whose top is the band's highest point
-    e = math.asin(min(1.0, p[2]))
-    alpha = math.atan(RIPPLE_SLOPE_SIGMAS * rms_slope(sea))
-    spread = min(2.0 * alpha, math.radians(60.0))
-    low = max(e - 2.0 * alpha, e / 3.0)
-    top = float(smooth_surface(island, *_points(island, ring, far)[:2])[0].max())
-    L = min((top + sea.max_elevation) / math.tan(low), RIPPLE_MAX_REACH)
-    w_high = water_line(island, ring) - radius_at(island, ring, sea.max_elevation)
-    # the texture: w from −L to inland, φ all round
-    n_w = int(texels)
-    w_edges = np.linspace(-L, far, n_w + 1)
+    receiver = ShoreReceiver(scene, island_index, float(t), float(hours), int(texels), inland, bool(shadows),
+                             bool(refracted))
+    phi_edges, w_edges = receiver.phi_edges, receiver.w_edges
     dw = w_edges[1] - w_edges[0]
-    r_bar = float(water_line(island, phi_sun))
-    n_phi = max(8, int(round(2.0 * math.pi * r_bar / dw)))
-    phi_edges = np.linspace(0.0, 2.0 * math.pi, n_phi + 1)
-    h = RIPPLE_BANDWIDTH_TEXELS * dw if bandwidth is None else float(bandwidth)
-    require_finite("bandwidth", h)
-    if h <= 0:
-        raise SunsetError(f"bandwidth must be positive, got {h!r}")
-    lam = spectral_data().wavelengths
-    c_water = absorption(lam) + scattering(lam)
-    # the rays: a jittered grid in (φ, w) over the patch, each with its share r Δφ Δw of the horizontal area
-    m = int(math.ceil(math.sqrt(rays)))
-    rng = np.random.default_rng(seed)
-    k = np.arange(rays)
-    a = np.minimum((k // m + rng.random(rays)) / m, 1.0)
-    b = np.minimum((k % m + rng.random(rays)) / m, 1.0)
-    half = 0.5 * math.pi + spread
-    w_in = float(w_high.max())
-    phi = phi_sun + (2.0 * a - 1.0) * half
-    w = w_in - b * (w_in + L)
-    x, y, r = _points(island, phi, w)
-    flux = math.sin(e) * r * (2.0 * half / m) * ((w_in + L) / m)          # each ray one cell of the grid
-    eta = sea.elevation(x, y, t)
-    q = np.stack([x, y, eta], axis=-1)
-    d = -p
-    shadow = np.isfinite(pierce_island(island, 0.0, q, np.broadcast_to(p, q.shape))[0])
-    dry = ~shadow & (smooth_surface(island, x, y)[0] >= eta)
-    wet = ~shadow & ~dry
-    q, fw = q[wet], flux[wet]
-    normal = sea.normal(x[wet], y[wet], t)
-    cos_i = np.clip(normal @ p, 0.0, 1.0)
-    R = reflectance(cos_i)
-    # reflected
-    rr = d[None, :] - 2.0 * (normal @ d)[:, None] * normal
-    down = rr[:, 2] <= 0.0
-    t_r = np.where(down, np.inf, pierce_island(island, 0.0, q, rr)[0])
-    hit = np.isfinite(t_r)
-    phi_r, w_r = _surface_coordinates(island, q[hit] + t_r[hit, None] * rr[hit])
-    band_r = np.zeros(len(q), bool)
-    band_r[hit] = (w_r >= w_edges[0]) & (w_r <= w_edges[-1])
-    inb = band_r[hit]
-    gathered_r = _splat(phi_r[inb], w_r[inb], (R * fw)[band_r], phi_edges, w_edges, r_bar, h)[..., 0]
-    # refracted
-    tr = refract(np.broadcast_to(d, normal.shape), normal, cos_i)
-    t_t = pierce_island(island, 0.0, q, tr)[0]
-    hit_t = np.isfinite(t_t)
-    phi_t, w_t = _surface_coordinates(island, q[hit_t] + t_t[hit_t, None] * tr[hit_t])
-    band_t = np.zeros(len(q), bool)
-    band_t[hit_t] = (w_t >= w_edges[0]) & (w_t <= w_edges[-1])
-    inb_t = band_t[hit_t]
-    att = np.exp(-np.outer(t_t[band_t], c_water))
-    transmitted = (1.0 - R) * fw
-    wt = transmitted[band_t][:, None] * att
-    gathered_t = _splat(phi_t[inb_t], w_t[inb_t], wt, phi_edges, w_edges, r_bar, h)
-    area = texel_areas(island, phi_edges, w_edges)
+    h = 0.0
+    if method == "beams":
+        require_int_range("refine", refine, 0, MAX_REFINE)
+        if cell is None:
+            cell = max(SHORE_CELL, math.sqrt(receiver.area / SHORE_MESH), dw / SHORE_TEXEL_CELLS)
+        require_finite("cell", cell)
+        arc = 2.0 * receiver.half * receiver.r_bar
+        n_a, n_b = _mesh(arc, receiver.w_in + receiver.L, float(cell))
+        books = trace_beams(receiver, n_a, n_b, levels=int(refine))
+        rays = (n_a + 1) * (n_b + 1)
+    else:
+        require_int_range("rays", rays, 1, RIPPLE_MAX_RAYS)
+        h = RIPPLE_BANDWIDTH_TEXELS * dw if bandwidth is None else float(bandwidth)
+        require_finite("bandwidth", h)
+        if h < 0:
+            raise SunsetError(f"bandwidth must be positive or 0 (a histogram), got {h!r}")
+
+        def splat(u, v, flux, shape):
+            if h == 0:
+                return histogram(u, v, flux, shape)
+            return _splat(np.mod(u * (phi_edges[1] - phi_edges[0]), 2.0 * math.pi), w_edges[0] + v * dw, flux,
+                          phi_edges, w_edges, receiver.r_bar, h)
+
+        books = trace_photons(receiver, int(rays), int(seed), splat)
+    area = texel_areas(receiver.island, phi_edges, w_edges)
     phi_c, w_c = 0.5 * (phi_edges[1:] + phi_edges[:-1]), 0.5 * (w_edges[1:] + w_edges[:-1])
-    height = smooth_surface(island, *_points(island, phi_c[None, :], w_c[:, None])[:2])[0]
-    reflected = R * fw
-    accounts = {
-        "in": float(flux.sum()),
-        "in the island's shadow": float(flux[shadow].sum()),
-        "fell on the island": float(flux[dry].sum()),
-        "reflected onto the shore": float(reflected[band_r].sum()),
-        "reflected onto the island beyond the band": float(reflected[hit & ~band_r].sum()),
-        "reflected past it": float(reflected[~hit & ~down].sum()),
-        "reflected back into the water": float(reflected[down].sum()),
-        "refracted onto the shore": float(np.mean(wt.sum(axis=0))),
-        "absorbed on the way": float(np.mean((transmitted[band_t][:, None] * (1.0 - att)).sum(axis=0))),
-        "refracted elsewhere": float(transmitted[~band_t].sum()),
-    }
-    return ShoreTexture(island_index=int(island_index), phi=phi_c, w=w_c, reflected=gathered_r / area,
-                        refracted=gathered_t / area[..., None], area=area, height=height, accounts=accounts,
-                        rays=int(rays), bandwidth=h, reach=float(L))
+    height = smooth_surface(receiver.island, *_points(receiver.island, phi_c[None, :], w_c[:, None])[:2])[0]
+    return ShoreTexture(island_index=int(island_index), phi=phi_c, w=w_c, reflected=books.reflected / area,
+                        refracted=books.refracted / area[..., None], area=area, height=height,
+                        accounts=books.accounts, rays=int(rays), bandwidth=h, reach=float(receiver.L), method=method,
+                        cell=float(cell) if method == "beams" else 0.0)
 
 
 def shore_lookup(tex: ShoreTexture, island, points) -> np.ndarray:
@@ -329,16 +411,47 @@ def shore_lookup(tex: ShoreTexture, island, points) -> np.ndarray:
     return out
 
 
-def shore_source(scene, t: float, hours: float, light, rays: int = 1 << 16, texels: int = 32, seed: int = 0):
+def owner(islands, points) -> np.ndarray:
+    """The island (0-based, −1 for none) each point (…, 3; z above the sea) lies on: the one whose surface, with its
+    cosine terms, is nearest above or below it, within :data:`OWNER_TOLERANCE` metres."""
+    pts = np.asarray(points, dtype=float)
+    best = np.full(pts.shape[:-1], np.inf)
+    out = np.full(pts.shape[:-1], -1, np.int64)
+    for k, island in enumerate(islands):
+        with np.errstate(invalid="ignore"):
+            gap = np.abs(island.height(pts[..., 0], pts[..., 1]) - pts[..., 2])
+            nearer = (gap < best) & (gap <= OWNER_TOLERANCE)
+        out = np.where(nearer, k, out)
+        best = np.where(nearer, gap, best)
+    return out
+
+
+def frame_texels(scene, island_index: int) -> int:
+    """Texels across an island's band for a frame of ``scene``'s camera: a texel about
+    :data:`~sunset.constants.SHORE_TEXEL_PIXELS` pixels across at the island's water line nearest the eye (the band
+    taken as its longest, :data:`~sunset.constants.RIPPLE_MAX_REACH` + :data:`~sunset.constants.SHORE_INLAND`),
+    between :data:`~sunset.constants.SHORE_MIN_TEXELS` and :data:`~sunset.constants.SHORE_TEXELS`. A finer texture
+    than the picture resolves would cost beams and show nothing more."""
+    island, cam = scene.islands[island_index], scene.camera
+    ring = np.linspace(0.0, 2.0 * math.pi, 721)[:-1]
+    x, y, _ = _points(island, ring, 0.0)
+    metres = SHORE_TEXEL_PIXELS * float(np.hypot(x, y).min()) * max(cam.pixel_pitch)
+    band = RIPPLE_MAX_REACH + SHORE_INLAND
+    return int(np.clip(math.ceil(band / max(metres, 1e-9)), SHORE_MIN_TEXELS, SHORE_TEXELS))
+
+
+def shore_source(scene, t: float, hours: float, light, texels: int | None = None, cell: float | None = None):
     """An extra light source for the RGB back end: the ripples of light on the shores of the scene's islands.
 
-    One texture per island (:func:`trace_shore`); ``source(points, normals, part)`` for
+    One texture per island (:func:`trace_shore`, beams; by default of :func:`frame_texels` texels across, its
+    beams' cell a fifth of a texel's height or more); ``source(points, normals, part)`` for
     :attr:`sunset.light.lighting.Lighting.extra_irradiance` adds, at island points of direct rays (eye
-    coordinates) inside a band, the texture's irradiance times the part's albedo and the hour's direct sun
-    over π (:attr:`~sunset.light.lighting.Lighting.island_direct`), in XYZ. Reflected rays' island points
-    (NaN) get nothing.
+    coordinates) inside a band and on that band's own island (:func:`owner`), the texture's irradiance times
+    the part's albedo and the hour's direct sun over π (:attr:`~sunset.light.lighting.Lighting.island_direct`),
+    in XYZ. Reflected rays' island points (NaN) get nothing.
     """
-    textures = [trace_shore(scene, j, t, hours, rays, texels, seed=seed) for j in range(len(scene.islands))]
+    textures = [trace_shore(scene, j, t, hours, texels=frame_texels(scene, j) if texels is None else texels, cell=cell,
+                            refracted=False) for j in range(len(scene.islands))]
     lift = np.array([0.0, 0.0, scene.camera.eye_height])
     direct = {code: np.asarray(v, dtype=np.float32) for code, v in light.island_direct.items()}
 
@@ -348,9 +461,12 @@ def shore_source(scene, t: float, hours: float, light, rays: int = 1 << 16, texe
             return out
         pts = np.asarray(points, dtype=float) + lift
         part = np.asarray(part)
+        mine = owner(scene.islands, pts)
         e = np.zeros(len(pts))
-        for island, tex in zip(scene.islands, textures):
-            e += shore_lookup(tex, island, pts)
+        for k, (island, tex) in enumerate(zip(scene.islands, textures)):
+            on = mine == k
+            if np.any(on):
+                e[on] += shore_lookup(tex, island, pts[on])
         for code, xyz in direct.items():
             sel = part == code
             out[sel] += (e[sel, None] * xyz).astype(np.float32)

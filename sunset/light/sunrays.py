@@ -92,7 +92,8 @@ def sea_table(sea, t: float) -> SeaTable:
 
 @twin("sunset.light.sunrays_numba")
 def surface(a, kx, ky, c, x, y):
-    """The sea's height η and slopes (η_x, η_y) at the points (x, y) (n,): Σ a cos θ and −Σ a (k_x, k_y) sin θ."""
+    """The sea's height η and slopes (η_x, η_y) at the points (x, y) (n,): Σ a cos θ and
+    −Σ a (k_x, k_y) sin θ."""
     eta, gx, gy = np.zeros(x.shape), np.zeros(x.shape), np.zeros(x.shape)
     for h in range(len(a)):
         theta = kx[h] * x + ky[h] * y + c[h]

@@ -41,7 +41,8 @@ def _texel_cos(tex, phi_sun):
     """cos(φ − φ_sun) averaged over each texel's width, 0 behind the silhouettes: the closed form's texel mean."""
     d = 2 * math.pi / len(tex.phi)
     lo = np.angle(np.exp(1j * (tex.phi - d / 2 - phi_sun)))
-    return (np.sin(np.clip(lo + d, -math.pi / 2, math.pi / 2)) - np.sin(np.clip(lo, -math.pi / 2, math.pi / 2))) / d
+    half = math.pi / 2
+    return (np.sin(np.clip(lo + d, -half, half)) - np.sin(np.clip(lo, -half, half))) / d
 
 
 def _closed_forms(still, tex):

@@ -13,7 +13,7 @@ from sunset.model.sky import direct_irradiance, island_lighting, sky_radiance, s
 from sunset.light import water
 from sunset.light.geometry import Geometry
 from sunset.light.lighting import Lighting
-from sunset.light.render import shade_display
+from sunset.light.render import frame_light, shade_display
 from sunset.pipeline.rgb import render_rgb, trace_geometry
 from sunset.light.shade import shade
 from sunset.model.scene import Scene
@@ -140,10 +140,12 @@ def test_no_nan_over_random_scenes(seed):
 
 
 def test_deferred_shading_is_a_fresh_render(small):
-    """One stored geometry shaded at two hours equals rendering afresh at each."""
+    """One stored geometry shaded at two hours equals rendering afresh at each (the light of the frame: the hour's,
+    and the ripples the waves throw on the islands' shores at that time and hour)."""
     g = trace_geometry(small, 0.4, 2)
     for hours in (3.0, 0.2):
-        light = Lighting.for_hour(small.sun, hours)
+        light = frame_light(small, 0.4, hours)
+        assert light.extra_irradiance                      # the shores' light, on by default
         np.testing.assert_array_equal(shade_display(g, light), render_rgb(small, 0.4, hours))
 
 
