@@ -221,3 +221,38 @@ def test_the_wind_sea_frame_rows():
     assert all(len(v) == 1 and v[0] > 0 for v in res.values())
     assert np.count_nonzero(Scene.named(ocean.WIND_FRAME_SCENE).sea.wind.tile.h0) > 10000
     assert ocean.rows({"times": res, "peak_rss_mib": 1.0}, "frame")[0]["what"] == "frame, " + list(res)[0]
+
+
+def test_the_ripples_rows_and_the_convergence_measure(monkeypatch):
+    """sunset/bench/ripples.py: its rows carry the medians and the counts; the convergence measure (shrunk here
+    to 16 × 4096 photons and two cells) reports a difference per cell and the photons' own noise."""
+    from sunset.bench import ripples
+
+    assert bench.MEASUREMENTS["ripples"] is ripples.measure_ripples
+    assert bench.MEASUREMENTS["ripples-convergence"] is ripples.measure_convergence
+    rows = ripples.rows({"times": {"post texture, beams": [0.3, 0.1, 0.2], "bytes": {"post texture": 2048}},
+                         "peak_rss_mib": 12.0})
+    assert rows == [{"what": "ripples: post texture, beams", "median_cpu_s": 0.2, "runs_cpu_s": [0.3, 0.1, 0.2],
+                     "peak_rss_mib": 12.0}, {"what": "ripples: post texture", "count": 2048}]
+    text = ripples.format_rows(rows).splitlines()
+    assert len(text) == 2 and text[0].endswith("0.200") and text[1].endswith("2,048")
+    monkeypatch.setattr(ripples, "CONVERGENCE_PHOTONS", 16 * 4096)
+    monkeypatch.setattr(ripples, "CONVERGENCE_CELLS", (0.2, 0.1))
+    monkeypatch.setattr(ripples, "CONVERGENCE_TEXELS", 8)
+    res = ripples.measure_convergence()
+    assert res["photons"] == 16 * 4096 and res["cells"] == [0.2, 0.1]
+    for key in ("difference", "difference_refined", "beam_seconds", "beam_seconds_refined"):
+        assert len(res[key]) == 2 and all(v > 0 for v in res[key])
+    for key in ("self_reflected", "self_refracted", "self_reflected_refined", "self_refracted_refined"):
+        assert len(res[key]) == 1 and 0 < res[key][0] < 2
+    # 4096 photons a part over 8 x ~60 texels: their noise is several per cent of the texture, and the beams
+    # differ from them by at least about that
+    assert 0.01 < res["photon_noise"] < 1.0 and min(res["difference"]) > 0.3 * res["photon_noise"]
+
+
+def test_the_ripples_book_data_command_refuses_bad_repeats(tmp_path, capsys):
+    from sunset.bench import ripples_book
+
+    assert ripples_book.main(["--out", str(tmp_path / "d"), "--repeats", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "repeats" in err and err.count("\n") == 1 and not (tmp_path / "d").exists()

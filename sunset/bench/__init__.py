@@ -29,7 +29,8 @@ computer, exact and in float64 (:mod:`sunset.bench.series`), and the wind
 sea's FFT tile (:mod:`sunset.bench.ocean`). And the RGB back end (:mod:`sunset.bench.rgb`): re-shading a stored frame, the light of
 an hour, and a 4-sample frame, split into its vector stage and the back end.
 And the explorer (:mod:`sunset.bench.explorer`): one update of
-:func:`sunset.explore`'s 512 × 512 picture per kind of slider.
+:func:`sunset.explore`'s 512 × 512 picture per kind of slider. And the ripples of light
+(:mod:`sunset.bench.ripples`): a post's and the shores' textures, a film frame's light, their bytes.
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ from .extra import timed
 from . import explorer as explorer_bench
 from . import ocean as ocean_bench
 from .frame import _frame_once, _measure_frame  # noqa: F401 (the frame's rows; the profile times the same frame)
+from . import ripples as ripples_bench
 from .profile import _function_name, _measure_profile  # noqa: F401 (the profile's row; tests use the name)
 from . import colour as colour_bench
 from . import rgb as rgb_bench
@@ -176,7 +178,8 @@ MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _meas
                 "scaling": _measure_scaling, "profile": _measure_profile, "rgb": rgb_bench.measure_rgb,
                 "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits,
                 "series": stokes_bench.measure_series, "explorer": explorer_bench.measure_explorer,
-                "ocean": ocean_bench.measure_ocean, "windframe": ocean_bench.measure_wind_frames, "budget": lambda w, h, r: memory_bench.measure_budget()}
+                "ocean": ocean_bench.measure_ocean, "windframe": ocean_bench.measure_wind_frames, "budget": lambda w, h, r: memory_bench.measure_budget(),
+                "ripples": ripples_bench.measure_ripples, "ripples-convergence": ripples_bench.measure_convergence}
 
 
 def _child(args) -> None:
@@ -262,7 +265,8 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
                   numpy_reference: bool = True, scaling: bool = True, profile: bool = True,
                   rgb: bool = True, memory_sizes=extra.MEMORY_SIZES, film_look: bool = True,
                   povray: bool = True, series: bool = False, figures: bool = False,
-                  explorer_size=explorer_bench.EXPLORER_SIZE, ocean: bool = False, budget: bool = True) -> dict:
+                  explorer_size=explorer_bench.EXPLORER_SIZE, ocean: bool = False, budget: bool = True,
+                  ripples: bool = False) -> dict:
     """Measure everything, print the table, write ``out`` (JSON)."""
     rows = []
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
@@ -362,6 +366,9 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     if series:
         log("Stokes' series by computer, exact and float64 ...")
         report["series"] = stokes_bench.rows(measure("series", 0, 0, repeats))
+    if ripples:
+        log("the ripples of light: textures, a film frame's light, bytes ...")
+        report["ripples"] = ripples_bench.rows(measure("ripples", 0, 0, repeats))
     if ocean:
         log("the wind sea's FFT tile: sizes, component counts, sampling ...")
         report["ocean"] = ocean_bench.rows(measure("ocean", 0, 0, repeats))
@@ -374,6 +381,7 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     print(format_table(rows))
     print(stokes_bench.format_rows(report.get("series", [])))
     print(ocean_bench.format_rows(report.get("ocean", [])))
+    print(ripples_bench.format_rows(report.get("ripples", [])))
     for m in report["memory"]["sizes"]:
         print(f"memory of one frame at {m['width']}x{m['height']}: {m['bytes_per_pixel']:.1f} bytes/pixel "
               f"(bound {extra.BYTES_PER_PIXEL_BOUND})")
@@ -434,7 +442,8 @@ def main(argv=None) -> int:
         return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     report = run_benchmark(args.out, args.repeats, args.brute_size, cycle=not args.no_cycle,
-                           povray=not args.no_povray, series=True, figures=not args.no_figures, ocean=True)
+                           povray=not args.no_povray, series=True, figures=not args.no_figures, ocean=True,
+                           ripples=True)
     if not report["memory"]["ok"]:
         print(f"sunset.bench: FAILED: one frame needs more than {extra.BYTES_PER_PIXEL_BOUND} bytes per pixel",
               file=sys.stderr)

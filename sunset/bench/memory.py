@@ -52,8 +52,10 @@ def _traced_peak(fn) -> int:
 def measure_rgb_bytes(scene, samples: int = 4, sizes=((100, 80), (200, 160))) -> tuple[int, float]:
     """Measure the RGB back end's memory: (the hour's light, bytes; peak bytes per traced ray).
 
-    The light (:func:`sunset.light.render.frame_light`, its sky grid) does
-    not grow with the picture: its peak is measured alone. The rest of a
+    The light (:func:`sunset.light.render.frame_light`: its sky grid, and the
+    islands' shore textures, which grow with the picture only up to their
+    finest, :data:`~sunset.constants.SHORE_TEXELS` across) is measured alone,
+    for a frame of 1024 × 1024, where they are at their finest. The rest of a
     frame is traced, shaded and encoded the three ways ``render --shading
     rgb`` writes (8-bit PNG, 16-bit PNG, float32 .npy) with the light made
     beforehand; the difference of the peaks over the difference of the rays
@@ -77,9 +79,9 @@ def measure_rgb_bytes(scene, samples: int = 4, sizes=((100, 80), (200, 160))) ->
         shade_scene_linear(g, light, k)
 
     with use_compiled(False):
-        small = scene.with_size(8, 8)
-        frame_light(small, 0.0, 0.35)
-        light_peak = _traced_peak(lambda: frame_light(small, 0.0, 0.35))
+        large = scene.with_size(1024, 1024)             # the light only: no ray of it is traced
+        frame_light(large, 0.0, 0.35)
+        light_peak = _traced_peak(lambda: frame_light(large, 0.0, 0.35))
         peaks = []
         for w, h in sizes:
             s = scene.with_size(w, h)

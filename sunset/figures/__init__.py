@@ -26,7 +26,7 @@ FIGURES: dict[str, tuple[str, str]] = {
     "rgb": ("fig6-rgb.png", "Figure 6 as the future work imagined: paint by numbers beside the RGB back end"),
     "quantisation": ("quantisation.png", "the 8-bit test: the RGB frame in 256 colours, CIEDE2000 maps"),
     "clouds": ("clouds.png", "future work: Carla's Island under clouds, the sun hidden and shown (and clouds-rgb.png)"),
-    "ripples": ("ripples.png", "future work: ripples of light thrown by the waves onto a post"),
+    "ripples": ("ripples.png", "future work: ripples of light thrown by the waves onto a post (beams beside photons)"),
 }
 
 

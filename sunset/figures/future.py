@@ -120,11 +120,12 @@ def ripples_figure(path, seed: int = 0) -> Path:
     post = scene.posts[0]
     times, moving = ripple_textures(scene)
     _, (photons,) = ripple_textures(scene, times=times[:1], method="photons", seed=seed)
-    fig = Figure(figsize=(11.0, 4.6))
+    fig = Figure(figsize=(11.0, 4.9))
     axes = fig.subplots(1, 5, sharey=True)
+    fig.subplots_adjust(top=0.84)
     images = [unrolled(t, post) for t in moving + [photons]]
     top = max(float(np.percentile(img, 99.0)) for img, _ in images[:-1])
-    titles = [f"beams, t = {t:.2f} s" for t in times] + [f"photons ({photons.rays:,}), t = {times[0]:.2f} s"]
+    titles = [f"beams,\nt = {t:.2f} s" for t in times] + [f"{photons.rays:,} photons,\nt = {times[0]:.2f} s"]
     for ax, (img, extent), title in zip(axes, images, titles):
         im = ax.imshow(img, extent=extent, origin="upper", aspect="auto", cmap="magma", vmin=0.0, vmax=top,
                        interpolation="nearest")

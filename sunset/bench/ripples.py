@@ -1,0 +1,134 @@
+"""The ripples of light (issue 30, :mod:`sunset.light.caustics`), timed and weighed for ``make bench``.
+
+``measure_ripples``: one texture of the post in the swell by beams (the
+figure's settings) and by as many photons as the figure's comparison; the
+light of a frame of Carla's Island at the paper's size
+(:func:`sunset.light.render.frame_light`: what every RGB frame and film frame
+computes), with its three shore textures (reflected light alone, at their
+finest) and without; the bytes of each texture. ``measure_convergence`` (``python -m sunset.bench --measure
+ripples-convergence``, about two minutes): the beams against 10⁸ photons
+counted in their texels, the photons in sixteen independent parts so that
+their own noise is measured beside the difference; and each mesh against the
+next finer one, reflected and refracted light, which has no noise to hide the
+beams' order of convergence.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+
+import numpy as np
+
+__all__ = ["measure_ripples", "measure_convergence", "rows", "format_rows", "CONVERGENCE_PHOTONS",
+           "CONVERGENCE_CELLS"]
+
+#: Photons of the convergence check (in independent parts, each within RIPPLE_MAX_RAYS) and the beams' cells set
+#: against them, metres.
+CONVERGENCE_PHOTONS = 10 ** 8
+CONVERGENCE_PARTS = 16
+#: The beams are also traced with this many halvings of those that land at a glance.
+CONVERGENCE_REFINE = 3
+CONVERGENCE_CELLS = (0.08, 0.04, 0.02, 0.01)
+#: Texels up the post in the convergence check.
+CONVERGENCE_TEXELS = 32
+
+
+def _runs(fn, repeats: int) -> list[float]:
+    fn()                                     # warm: the compiled kernels load once
+    out = []
+    for _ in range(repeats):
+        start = time.process_time()
+        fn()
+        out.append(time.process_time() - start)
+    return out
+
+
+def measure_ripples(width: int, height: int, repeats: int) -> dict:
+    """CPU seconds of the textures and of a frame's light, and the bytes of each texture (``bytes``)."""
+    from ..figures.future import RIPPLE_CELL, RIPPLE_HOURS, RIPPLE_RAYS, RIPPLE_TEXELS
+    from ..constants import RGB_LIGHT_BYTES
+    from ..light.render import frame_light
+    from ..light.ripples import trace_ripples
+    from ..model.scene import load_named_scene
+    from .memory import _traced_peak
+
+    # Carla's Island at the paper's size: its shore textures at their finest (light/shore.py's frame_texels)
+    swell, carla = load_named_scene("post-in-the-swell"), load_named_scene("carlas-island")
+    size = f"{carla.camera.width}x{carla.camera.height}"
+    made = {}
+
+    def post(method):
+        made[method] = trace_ripples(swell, 0, 0.0, RIPPLE_HOURS, method=method, cell=RIPPLE_CELL, rays=RIPPLE_RAYS,
+                                     texels=RIPPLE_TEXELS)
+
+    def light(shore):
+        made[shore] = frame_light(carla, 0.0, 0.35, shore=shore)
+
+    times = {"post texture, beams": _runs(lambda: post("beams"), repeats),
+             "post texture, photons": _runs(lambda: post("photons"), repeats),
+             f"a film frame's light, Carla's Island {size} (3 shore textures)": _runs(lambda: light(True), repeats),
+             "a film frame's light, Carla's Island, no shores": _runs(lambda: light(False), repeats)}
+    beams, shores = made["beams"], made[True].extra_irradiance[-1].textures
+    times["bytes"] = {"post texture (reflected)": int(beams.above.nbytes),
+                      "post texture (refracted, per wavelength)": int(beams.below.nbytes),
+                      "Carla's 3 shore textures (reflected)": int(sum(t.reflected.nbytes for t in shores)),
+                      "beams' corners, post": int(beams.rays),
+                      "beams' corners, Carla's 3 shores": int(sum(t.rays for t in shores)),
+                      f"a frame's light, Carla's Island {size}, traced peak (RGB_LIGHT_BYTES {RGB_LIGHT_BYTES:,})":
+                          int(_traced_peak(lambda: light(True)))}
+    return times
+
+
+def measure_convergence(width: int = 0, height: int = 0, repeats: int = 1) -> dict:
+    """The beams at :data:`CONVERGENCE_CELLS` against :data:`CONVERGENCE_PHOTONS` photons (a histogram), on the
+    post in the swell at the figure's hour: rms differences of the reflected texture, relative to its rms."""
+    from ..figures.future import RIPPLE_HOURS
+    from ..light.ripples import trace_ripples
+    from ..model.scene import load_named_scene
+
+    swell = load_named_scene("post-in-the-swell")
+    share = CONVERGENCE_PHOTONS // CONVERGENCE_PARTS
+    start = time.process_time()
+    parts = [trace_ripples(swell, 0, 0.0, RIPPLE_HOURS, method="photons", rays=share, texels=CONVERGENCE_TEXELS,
+                           bandwidth=0.0, seed=100 + k).above for k in range(CONVERGENCE_PARTS)]
+    photon_seconds = time.process_time() - start
+    photons = np.mean(parts, axis=0)
+    scale = float(np.sqrt(np.mean(photons ** 2)))
+    # the noise of the mean of the parts, from their spread
+    noise = float(np.sqrt(np.mean(np.var(parts, axis=0, ddof=1) / CONVERGENCE_PARTS)))
+    out = {"photons": CONVERGENCE_PHOTONS, "photon_seconds": photon_seconds, "texels": CONVERGENCE_TEXELS,
+           "hours": RIPPLE_HOURS, "rms": scale, "photon_noise": noise / scale, "cells": list(CONVERGENCE_CELLS)}
+    for refine in (0, CONVERGENCE_REFINE):
+        diff, seconds, textures = [], [], []
+        for cell in CONVERGENCE_CELLS:
+            start = time.process_time()
+            tex = trace_ripples(swell, 0, 0.0, RIPPLE_HOURS, cell=cell, texels=CONVERGENCE_TEXELS, refine=refine)
+            seconds.append(time.process_time() - start)
+            diff.append(float(np.sqrt(np.mean((tex.above - photons) ** 2))) / scale)
+            textures.append((tex.above, tex.below.mean(axis=-1)))
+        key = "" if refine == 0 else "_refined"
+        out["difference" + key], out["beam_seconds" + key] = diff, seconds
+        # the beams against the next finer beams (no photon noise): reflected and refracted (mean over λ), each
+        # relative to the finer texture's rms
+        for j, name in enumerate(("reflected", "refracted")):
+            out[f"self_{name}{key}"] = [float(np.sqrt(np.mean((a[j] - b[j]) ** 2) / np.mean(b[j] ** 2)))
+                                        for a, b in zip(textures[:-1], textures[1:])]
+    out["refine"] = CONVERGENCE_REFINE
+    return out
+
+
+def rows(result: dict) -> list[dict]:
+    """The JSON rows of a :func:`measure_ripples` result run by :func:`sunset.bench.measure`."""
+    times = dict(result["times"])
+    weights = times.pop("bytes")
+    out = [{"what": f"ripples: {what}", "median_cpu_s": statistics.median(t), "runs_cpu_s": list(t),
+            "peak_rss_mib": result["peak_rss_mib"]} for what, t in times.items()]
+    out += [{"what": f"ripples: {what}", "count": n} for what, n in weights.items()]
+    return out
+
+
+def format_rows(ripple_rows: list[dict]) -> str:
+    """Plain-text lines for the table that ``make bench`` prints."""
+    return "\n".join(f"{r['what']:48s} {'CPU s':>16s} {r['median_cpu_s']:9.3f}" if "median_cpu_s" in r
+                     else f"{r['what']:48s} {'':16s} {r['count']:9,d}" for r in ripple_rows)
