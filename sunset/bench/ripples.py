@@ -5,7 +5,9 @@ figure's settings) and by as many photons as the figure's comparison; the
 light of a frame of Carla's Island at the paper's size
 (:func:`sunset.light.render.frame_light`: what every RGB frame and film frame
 computes), with its three shore textures (reflected light alone, at their
-finest) and without; the bytes of each texture. ``measure_convergence`` (``python -m sunset.bench --measure
+finest) and without, and the light of a frame of the post in the swell (its
+post's texture as the film traces it); the bytes of each texture.
+``measure_convergence`` (``python -m sunset.bench --measure
 ripples-convergence``, about two minutes): the beams against 10⁸ photons
 counted in their texels, the photons in sixteen independent parts so that
 their own noise is measured beside the difference; and each mesh against the
@@ -65,14 +67,21 @@ def measure_ripples(width: int, height: int, repeats: int) -> dict:
     def light(shore):
         made[shore] = frame_light(carla, 0.0, 0.35, shore=shore)
 
+    def post_light():
+        made["film post"] = frame_light(swell, 0.0, RIPPLE_HOURS)
+
     times = {"post texture, beams": _runs(lambda: post("beams"), repeats),
              "post texture, photons": _runs(lambda: post("photons"), repeats),
              f"a film frame's light, Carla's Island {size} (3 shore textures)": _runs(lambda: light(True), repeats),
-             "a film frame's light, Carla's Island, no shores": _runs(lambda: light(False), repeats)}
+             "a film frame's light, Carla's Island, no shores": _runs(lambda: light(False), repeats),
+             "a film frame's light, the post in the swell (its post's texture)": _runs(post_light, repeats)}
     beams, shores = made["beams"], made[True].extra_irradiance[-1].textures
+    (film_post,) = made["film post"].extra_irradiance[-1].textures
     times["bytes"] = {"post texture (reflected)": int(beams.above.nbytes),
                       "post texture (refracted, per wavelength)": int(beams.below.nbytes),
                       "Carla's 3 shore textures (reflected)": int(sum(t.reflected.nbytes for t in shores)),
+                      "a film frame's post texture (reflected and refracted)":
+                          int(film_post.above.nbytes + film_post.below.nbytes),
                       "beams' corners, post": int(beams.rays),
                       "beams' corners, Carla's 3 shores": int(sum(t.rays for t in shores)),
                       f"a frame's light, Carla's Island {size}, traced peak (RGB_LIGHT_BYTES {RGB_LIGHT_BYTES:,})":

@@ -76,10 +76,12 @@ def frame_light(scene, t: float, hours: float, shore: bool = True) -> Lighting:
     throw at time ``t`` on its posts (:func:`sunset.light.ripples.ripple_source`) and on its islands' shores
     near the water line (:func:`sunset.light.shore.shore_source`, unless ``shore`` is False), which depend on
     the waves' time as well as the hour; with the sun's centre below the horizon there is no sunlight for the
-    waves to throw, and no ripples.
+    waves to throw, and no ripples. A sea given by its wind (``scene.sea.wind``) throws none either: the light
+    tracers read the sea as its trains' cosines (:func:`sunset.light.sunrays.sea_table`), and a wind sea has no
+    trains (its still water would throw a mirror's flat band instead).
     """
     light = Lighting.for_scene(scene, hours)
-    if light.sun_dir[2] <= 0.0:                 # after sunset no sunlight reaches the waves: no ripples
+    if light.sun_dir[2] <= 0.0 or scene.sea.wind is not None:    # no sunlight on the waves, or no trains
         return light
     if scene.posts:
         from .ripples import ripple_source

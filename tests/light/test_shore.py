@@ -264,3 +264,15 @@ def test_the_frames_textures_are_as_fine_as_the_picture_and_no_finer(carla):
     scene = replace(carla, islands=carla.islands[:1]).with_size(48, 48)
     source = frame_light(scene, 0.0, 1.0).extra_irradiance[-1]
     assert source.textures[0].reflected.shape[0] == frame_texels(scene, 0) < SHORE_TEXELS
+
+
+def test_a_sea_given_by_its_wind_throws_no_ripples():
+    """The tracers read the sea as its trains' cosines; a wind sea has none, and its light is the hour's alone
+    (not the flat band a still mirror would throw)."""
+    from sunset.model.posts import Post
+
+    scene = load_named_scene("carlas-island-in-the-wind").with_size(64, 64)
+    assert scene.sea.wind is not None and scene.islands
+    scene = replace(scene, posts=(Post(x=0.5, y=10.0, radius=0.3, top=2.0, depth=2.0),))
+    assert frame_light(scene, 0.0, 1.0).extra_irradiance == []
+    assert len(frame_light(replace(scene, sea=load_named_scene("carlas-island").sea), 0.0, 1.0).extra_irradiance) == 2

@@ -71,3 +71,21 @@ def test_a_film_of_posts_runs_past_sunset(cycle):
     hours = [0.2, -0.25]                       # the default film ends a quarter of an hour after sunset
     frames = list(film_frames(scene, geometries, hours, times=times))
     assert len(frames) == 2 and frames[1].tobytes() != frames[0].tobytes()
+
+
+def test_the_film_carries_the_ripples_of_each_cycle_frames_time(cycle):
+    """Issue 30: each film frame gets the ripples of light on the post at its own cycle frame's time; without
+    them (the hour's light alone) the post is darker and nothing else changes."""
+    from sunset.light.lighting import Lighting
+
+    scene, times, geometries, _ = cycle
+    frames = list(film_frames(scene, geometries, [0.6, 0.6], times=times))
+    gains = []
+    for j, g in enumerate(geometries):
+        bare = to_uint8(shade_display(g, Lighting.for_scene(scene, 0.6), 1)).astype(int)
+        gain = frames[j].astype(int) - bare
+        on_post = (g.final_kind == 2).reshape(g.shape)
+        assert on_post.any() and not gain[~on_post].any()
+        assert gain[on_post].max() >= 8 and gain.min() >= -1        # -1: the rounding of a sum in float32
+        gains.append(gain[on_post].sum(axis=-1))
+    assert gains[0].tolist() != gains[1].tolist()                   # the ripples move with the waves
