@@ -336,7 +336,8 @@ def trace_shore(scene, island_index: int = 0, t: float = 0.0, hours: float = 2.0
         Beams: halvings of the beams that land at a glance (0 to :data:`~sunset.light.caustics.MAX_REFINE`).
     refracted : bool
         Whether to trace the refracted light onto the sea bed (False: it is booked as going into the sea, and
-        the ``refracted`` texture is 0; the RGB back end shows the reflected light alone).
+        the ``refracted`` texture is 0, a read-only view that holds no memory; the RGB back end shows the
+        reflected light alone).
     """
     if not scene.islands:
         raise SunsetError("the scene has no islands to light")
@@ -377,8 +378,11 @@ def trace_shore(scene, island_index: int = 0, t: float = 0.0, hours: float = 2.0
     area = texel_areas(receiver.island, phi_edges, w_edges)
     phi_c, w_c = 0.5 * (phi_edges[1:] + phi_edges[:-1]), 0.5 * (w_edges[1:] + w_edges[:-1])
     height = smooth_surface(receiver.island, *_points(receiver.island, phi_c[None, :], w_c[:, None])[:2])[0]
+    # untraced refracted light: a zero view that holds no memory (a film keeps a light's textures per frame)
+    refracted = (books.refracted / area[..., None] if receiver.refracted
+                 else np.broadcast_to(np.zeros((1, 1, 1)), books.refracted.shape))
     return ShoreTexture(island_index=int(island_index), phi=phi_c, w=w_c, reflected=books.reflected / area,
-                        refracted=books.refracted / area[..., None], area=area, height=height,
+                        refracted=refracted, area=area, height=height,
                         accounts=books.accounts, rays=int(rays), bandwidth=h, reach=float(receiver.L), method=method,
                         cell=float(cell) if method == "beams" else 0.0)
 

@@ -276,3 +276,29 @@ def test_a_sea_given_by_its_wind_throws_no_ripples():
     scene = replace(scene, posts=(Post(x=0.5, y=10.0, radius=0.3, top=2.0, depth=2.0),))
     assert frame_light(scene, 0.0, 1.0).extra_irradiance == []
     assert len(frame_light(replace(scene, sea=load_named_scene("carlas-island").sea), 0.0, 1.0).extra_irradiance) == 2
+
+
+def test_a_frames_light_keeps_only_what_the_shading_reads():
+    """A film keeps the light of each frame it meets (sunset.light.film.LIGHT_CACHE of them): the shores' light
+    holds the reflected texture, its areas and heights, and no untraced refracted texture (a zero view)."""
+    import gc
+    import tracemalloc
+
+    from sunset.light.lighting import Lighting
+
+    scene = load_named_scene("carlas-island")
+    kept = []
+    for make in (lambda: Lighting.for_scene(scene, 1.0), lambda: frame_light(scene, 0.0, 1.0)):
+        make()
+        gc.collect()
+        tracemalloc.start()
+        light = make()
+        gc.collect()
+        kept.append(tracemalloc.get_traced_memory()[0])
+        tracemalloc.stop()
+    textures = light.extra_irradiance[-1].textures
+    arrays = sum(t.reflected.nbytes + t.area.nbytes + t.height.nbytes for t in textures)
+    assert all(np.all(t.refracted == 0) and t.refracted.base is not None for t in textures)
+    # the refracted zeros would be tens of times the reflected texture; what is kept is the three arrays and small
+    # change (the lookups' closures, the accounts)
+    assert arrays < kept[1] - kept[0] < arrays + 2**20, (kept, arrays)
