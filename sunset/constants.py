@@ -281,7 +281,8 @@ CLOUD_MULTIPLE_SCATTERING = 0.12
 #: Most cells in one cloud layer, and the highest mean level (the top of the troposphere), metres.
 CLOUD_MAX_CELLS = 64
 CLOUD_MAX_LEVEL = 15000.0
-#: Smallest semi-axis of a cloud cell, metres (a length has a physical minimum, not only a positive one).
+#: Smallest semi-axis of a cloud cell, and its smallest top or bottom but 0, metres (a length has a
+#: physical minimum, not only a positive one).
 CLOUD_MIN_SIZE = 1.0
 #: Code map of a scene with clouds: the cloud range (by depth below the mean level) takes
 #: codes from the islands and the sky; the track and halo keep theirs. Sums to N_CODES.

@@ -45,7 +45,7 @@ import numpy as np
 from ..constants import (CLOUD_ALBEDO, CLOUD_ATTENUATION_LENGTH, CLOUD_MAX_CELLS, CLOUD_MAX_LEVEL, EARTH_RADIUS,
                          CLOUD_MULTIPLE_SCATTERING)
 from ..constants import CLOUD_MIN_SIZE, MAX_DISTANCE, MAX_HILL_WAVENUMBER
-from ..errors import (require_items, require_scalars, SunsetError, require_finite, require_length, require_nonnegative, require_positive,
+from ..errors import (require_items, require_scalars, SunsetError, require_finite, require_length, require_positive,
                       require_range)
 
 __all__ = ["Billow", "CloudCell", "Clouds", "cloud_radiance"]
@@ -88,9 +88,8 @@ class CloudCell:
             require_range(name, getattr(self, name), -MAX_DISTANCE, MAX_DISTANCE, "m")
         for name in ("a", "b"):
             require_length(name, getattr(self, name), CLOUD_MIN_SIZE, MAX_DISTANCE)
-        for name in ("top", "bottom"):
-            require_nonnegative(name, getattr(self, name))
-            require_range(name, getattr(self, name), 0.0, CLOUD_MAX_LEVEL, "m")
+        for name in ("top", "bottom"):             # none, or a thickness of at least a metre (not 5e-324 m)
+            require_length(name, getattr(self, name), CLOUD_MIN_SIZE, CLOUD_MAX_LEVEL, zero=True)
         if self.top + self.bottom <= 0.0:
             raise SunsetError("top or bottom must be positive: a cloud needs some thickness")
         if sum(abs(b.amplitude) for b in self.billows) >= 1.0:

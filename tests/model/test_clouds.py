@@ -70,6 +70,8 @@ def test_bad_layers(kwargs, word):
 
 @pytest.mark.parametrize("kwargs, word", [
     (dict(a=0.0), "a"), (dict(b=-1.0), "b"), (dict(top=-1.0), "top"), (dict(top=0.0, bottom=0.0), "thickness"),
+    (dict(top=5e-324), r"^top must be 0 or in \[1, 15000\] m"), (dict(bottom=0.5), r"^bottom must be 0 or in"),
+    (dict(a=5e-324), r"^a must be in \[1, "), (dict(top=5e-324, bottom=0.0), "top must be 0 or"),  # issue 33
     (dict(billows=(Billow(0.6, 0.0, 0.0), Billow(0.5, 1.0, 0.0))), "billows"), (dict(x=float("inf")), "x"),
 ])
 def test_bad_cells(kwargs, word):
