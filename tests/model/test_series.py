@@ -366,3 +366,42 @@ def test_pade_of_a_series_that_ends_is_the_series(exact):
     s = stokes_series(12, exact=exact)
     x = np.array([0.0, 0.1, 0.3, 0.44])
     np.testing.assert_allclose(s.pade("height", x, "epsilon"), x, rtol=1e-15, atol=0)
+
+
+_S6 = None
+
+
+def _s6():
+    global _S6
+    _S6 = _S6 or stokes_series(6)
+    return _S6
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda: solve_stokes(0.05).surface(10**9), r"^n_points must be in 3\.\.65536, got 1000000000"),
+    (lambda: _s6().at_steepness(0.1411), r"^steepness must be in 0\.\.0\.141063 \(H/λ of the highest wave"),
+    (lambda: solve_stokes(0.1411), r"^steepness must be in 0\.\.0\.141063"),
+    (lambda: _s6().at_steepness(0.1, n_amplitudes=17), r"^n_amplitudes must be in 1\.\.6"),
+    (lambda: _s6().pade("speed", 1e300), r"^x must lie in \[-1, 1\]"),
+    (lambda: _s6().partial_sum("speed", -1e300), r"^x must lie in \[-1, 1\]"),
+    (lambda: pade_exact([1, 2], 1, 1), r"needs the 3 coefficients of x\^0 \.\. x\^2, got 2"),
+    (lambda: pade_exact(["a", 1, 1], 1, 1), r"^coefficient 0 must be a number"),
+    (lambda: domb_sykes([1.0, 2.0]), r"needs at least 3 coefficients, got 2"),
+    (lambda: solve_stokes("0.1"), r"^steepness must be a number .* \(str\)"),
+    (lambda: stokes_series("6"), r"^order must be an integer, got 6 \(str\)"),
+    (lambda: stokes_series(6, exact="no"), r"^exact must be True or False, got no \(str\)"),
+    (lambda: solve_stokes(0.1, n_modes=4096), r"^n_modes must be in 16\.\.1024"),
+    (lambda: stokes_series(81), r"^order must be in 1\.\.80"),
+    (lambda: stokes_series(401, exact=False), r"^order must be in 1\.\.400"),
+    (lambda: stokes_series(10**9), r"^order must be in 1\.\.80"),
+])
+def test_the_stokes_api_refuses_what_would_run_for_minutes_or_leak(call, words):
+    """Issue 33's Stokes cases, each a one-line SunsetError within a second (surface(10**9) ran until killed,
+    at_steepness took 0.1411 past the highest wave, pade(…, 1e300) leaked OverflowError, exact='no' meant exact)."""
+    import time
+
+    _s6()
+    start = time.perf_counter()
+    with pytest.raises(SunsetError, match=words) as info:
+        call()
+    assert "\n" not in str(info.value) and time.perf_counter() - start < 1.0
