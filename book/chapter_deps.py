@@ -138,7 +138,7 @@ def sunset_modules(source: str) -> set[str]:
             return _every_module()                         # the package run as a program, or from a string
     inner = {id(n.value) for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
     for node in ast.walk(tree):
-        if isinstance(node, ast.Attribute) and id(node) not in inner:     # sunset.vector.cray1.CLOCK_S, whole
+        if isinstance(node, ast.Attribute) and id(node) not in inner:     # sunset.pipeline.cray1.CLOCK_S, whole
             chain = _attribute_chain(node)
             if chain and chain[0] in aliases:
                 found |= _through_package(aliases[chain[0]], chain[1])

@@ -33,10 +33,10 @@ import importlib
 #: (PEP 562), so that ``import sunset.cli`` is quick and a Ctrl-C while the
 #: renderer's modules load is caught by the command line (one line, exit 130).
 _API = {
-    "Camera": ".model.camera", "encode": ".tape.codes", "expose": ".recorder.dicomed", "SunsetError": ".errors",
-    "make_film": ".recorder.film", "Frame": ".vector.frame", "Cosine": ".model.islands",
+    "Camera": ".model.camera", "encode": ".pipeline.frame", "expose": ".pipeline.frame", "SunsetError": ".errors",
+    "make_film": ".pipeline.film", "Frame": ".vector.frame", "Cosine": ".model.islands",
     "Island": ".model.islands", "Paraboloid": ".model.islands", "Scene": ".model.scene",
-    "default_scene": ".model.scene", "render": ".vector.render", "solve_stokes": ".model.stokes_exact",
+    "default_scene": ".model.scene", "render": ".pipeline.frame", "solve_stokes": ".model.stokes_exact",
     "Sun": ".model.sun", "Sea": ".model.waves", "WaveTrain": ".model.waves", "scene_names": ".model.scene",
     "picture": ".pictures", "stokes_series": ".model.series", "explore": ".explorer",
 }

@@ -351,7 +351,8 @@ def _cmd_expose(args) -> None:
 
 
 def _cmd_film(args) -> None:
-    from .recorder.film import FILM_SUFFIXES, PREVIEW_SUFFIXES, make_film
+    from .pipeline.film import make_film
+    from .recorder.film import FILM_SUFFIXES, PREVIEW_SUFFIXES
 
     samples = _check_shading(args)
     _outputs({"-o": args.output, "--preview": args.preview, "--tape": args.tape},
@@ -368,7 +369,8 @@ def _cmd_film(args) -> None:
 
 
 def _cmd_player(args) -> None:
-    from .recorder.player import HTML_SUFFIXES, write_player
+    from .pipeline.film import write_player
+    from .recorder.player import HTML_SUFFIXES
 
     _outputs({"-o": args.output}, {"-o": HTML_SUFFIXES}, {"the scene": _scene_path(args.scene)})   # before the work
     scene = _load_scene(args.scene)
@@ -380,7 +382,7 @@ def _rgb_film(scene, args, samples: int) -> None:
     """``film --shading rgb``: one cycle's geometry traced once, re-shaded per hour (:mod:`sunset.light.film`)."""
     from .pipeline.rgb import film_frames, trace_cycle
     from .recorder.film import FILM_CYCLES, _check_film, cycle_times, film_hours, write_video
-    from .tape.cycle import frame_workers
+    from .pipeline.workers import frame_workers
 
     _check_film(args.output, args.preview, args.from_hours, args.to_hours, FILM_CYCLES, args.fps)
     times = cycle_times(scene, args.frames)
@@ -420,7 +422,7 @@ def _cmd_export(args) -> None:
 
 def _cmd_info(args) -> None:
     from .provenance import environment, info_text
-    from .tape.cycle import frame_workers, usable_cpus
+    from .pipeline.workers import frame_workers, usable_cpus
 
     env = {**environment(), "usable cpus": str(usable_cpus())}
     env["frame workers"] = f"{frame_workers(frames=2**31)} (--jobs, else SUNSET_WORKERS, else the usable cpus)"

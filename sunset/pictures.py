@@ -48,9 +48,8 @@ def picture(scene: Scene | str | os.PathLike[str], t: float = 0.0, hours: float 
     >>> rgb.shape, rgb.dtype
     ((48, 64, 3), dtype('uint8'))
     """
-    from .recorder.dicomed import expose
+    from .pipeline.frame import code_frame, expose
     from .errors import real_number, require_size, require_time
-    from .tape.cycle import code_frame
     from .model.scene import as_scene
 
     scene = as_scene(scene)

@@ -28,6 +28,7 @@ import sunset
 from sunset.errors import SunsetError
 from sunset.model.pade import pade_exact
 from sunset.model.series import domb_sykes, pade_coefficients
+from sunset.pipeline.film import player_data, write_player
 from sunset.recorder import player
 
 #: A tiny scene and what the pipeline makes of it, the valid arguments the calls start from.
@@ -43,7 +44,7 @@ def _data():
     from sunset.tape.tapefile import Tape
 
     _data.tape = Tape(scene=SCENE, codes=CODES[None], times=np.array([0.0]))
-    return player.player_data(_data.tape, player.hours_grid(0.5, 0.0))
+    return player_data(_data.tape, player.hours_grid(0.5, 0.0))
 
 
 DATA = _data()
@@ -116,7 +117,7 @@ CASES = [
     ("player.quantise", player.quantise, {"lin": np.zeros((2, 3))}, (), ()),
     ("player.sun_geometry", player.sun_geometry, {"scene": SCENE, "hours": 0.2}, ("scene",), ()),
     ("player.code_meanings", player.code_meanings, {"sun": SCENE.sun}, (), ("clouds",)),
-    ("player.player_data", player.player_data, {"tape": _data.tape, "grid": player.hours_grid(0.5, 0.0)}, (),
+    ("film.player_data", player_data, {"tape": _data.tape, "grid": player.hours_grid(0.5, 0.0)}, (),
      ("start_hours",)),
     ("player.player_fragment", player.player_fragment, {"data": DATA}, (), ()),
     ("player.player_html", player.player_html, {"data": DATA}, (), ()),
@@ -124,7 +125,7 @@ CASES = [
     ("player.decode_codes", player.decode_codes, {"data": DATA}, (), ()),
     ("player.data_tables", player.data_tables, {"data": DATA}, (), ()),
     ("player.compose", player.compose, {"data": DATA, "frame": 0, "hour": 0}, (), ("codes",)),
-    ("player.write_player", player.write_player, {"scene": SCENE, "path": "p.html", "frames": 2, "size": (8, 8),
+    ("film.write_player", write_player, {"scene": SCENE, "path": "p.html", "frames": 2, "size": (8, 8),
                                                   "progress": False}, ("scene", "path"), ("size",)),
 ]
 
@@ -169,7 +170,7 @@ def test_a_wrong_argument_is_a_sunset_error_at_once(call):
 def test_the_valid_calls_run():
     """The baselines are valid: each call with its own arguments returns (the test above changes one)."""
     for what, fn, kwargs, _, _ in CASES:
-        if what in ("make_film", "player.write_player"):
+        if what in ("make_film", "film.write_player"):
             continue                                            # they write files: valid by the CLI's tests
         fn(**kwargs)
 

@@ -119,7 +119,7 @@ def test_scaled_scenes_have_the_counts_asked_for():
         isl = bench._scaled_islands(base.islands, n)
         assert len(isl) == n and len({i.name for i in isl}) == n
     # a scene with more of both still renders (no overlap errors, finite values)
-    from sunset.vector.render import render
+    from sunset.pipeline.frame import render
 
     sc = Scene(camera=base.with_size(24, 20).camera, sun=base.sun, sea=bench._scaled_sea(base.sea, 6),
                islands=bench._scaled_islands(base.islands, 5))

@@ -8,9 +8,8 @@ import pytest
 from sunset import kernels
 from sunset.bench import agreement
 from sunset.constants import SEA, SKY
-from sunset.model.scene import Scene, as_scene
-from sunset.tape.codes import encode
-from sunset.vector.render import render
+from sunset.model.scene import as_scene, Scene
+from sunset.pipeline.frame import encode, render
 
 
 def test_the_command_writes_every_run(tmp_path, capsys):

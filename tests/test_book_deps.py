@@ -64,7 +64,7 @@ def test_code_cells_are_read_without_their_options():
         ```
 
         ```python
-        from sunset.vector.render import render
+        from sunset.pipeline.frame import render
         ```
 
         ````{code-cell} ipython3
@@ -112,8 +112,8 @@ def test_running_the_package_as_a_program_depends_on_all_of_it(code):
 
 
 def test_a_dotted_import_reaches_the_module_named():
-    found = chapter_deps.sunset_modules("import sunset.vector.cray1\nx = sunset.vector.cray1.CLOCK_S")
-    assert "sunset.vector.cray1" in found and "sunset.vector.render" not in found
+    found = chapter_deps.sunset_modules("import sunset.pipeline.cray1\nx = sunset.pipeline.cray1.CLOCK_S")
+    assert "sunset.pipeline.cray1" in found and "sunset.pipeline.frame" not in found
 
 
 def test_package_data_and_book_files_are_dependencies(tmp_path):
@@ -145,7 +145,7 @@ print("\\n".join(sorted(ran)))
 @pytest.mark.parametrize("code", [
     "from sunset.model.series import stokes_series\nstokes_series(6).pade(\"height\", 0.1)",
     "import sunset\nsunset.Scene.default().with_size(16, 12)",
-    "from sunset.vector.cray1 import CrayCosts\nCrayCosts()",
+    "from sunset.pipeline.cray1 import CrayCosts\nCrayCosts()",
 ])
 def test_every_package_file_whose_code_runs_is_a_dependency(code):
     """The independent reference: the package files whose functions ran (traced), never missing from the scan."""
@@ -164,7 +164,7 @@ def test_every_package_file_whose_code_runs_is_a_dependency(code):
 def test_the_books_chapters_depend_on_what_they_say():
     stokes = {f.relative_to(ROOT).as_posix() for f in chapter_deps.chapter_files(BOOK / "03-stokes.md")}
     assert "sunset/model/series.py" in stokes and "sunset/model/stokes_exact.py" in stokes
-    assert "sunset/recorder/dicomed.py" not in stokes and "sunset/vector/render.py" not in stokes
+    assert "sunset/recorder/dicomed.py" not in stokes and "sunset/pipeline/frame.py" not in stokes
     speed = {f.relative_to(ROOT).as_posix() for f in chapter_deps.chapter_files(BOOK / "10-speed.md")}
     assert "book/data/bench.json" in speed                 # it reads the snapshot of `make bench`
     cli = {f.relative_to(ROOT).as_posix() for f in chapter_deps.chapter_files(BOOK / "11-command-line.md")}
@@ -177,7 +177,7 @@ def test_a_fingerprint_compares_contents_not_times(tmp_path):
     md.write_text("```{code-cell} ipython3\nfrom sunset.errors import SunsetError\n```\n")
     first = chapter_deps.fingerprint(md, env="e")
     assert {"sunset/__init__.py", "sunset/errors.py"} <= set(first.files)
-    assert "sunset/vector/render.py" not in first.files                  # the errors need no renderer
+    assert "sunset/pipeline/frame.py" not in first.files                  # the errors need no renderer
     assert chapter_deps.fingerprint(md, env="e").key == first.key
     assert chapter_deps.fingerprint(md, env="other").key != first.key    # another environment
     changed = dict(first.files, **{"sunset/errors.py": "0" * 64})

@@ -40,12 +40,13 @@ def peak_of(fn) -> int:
 def no_tracing(monkeypatch):
     """Any ray traced fails the test (the sea's and the islands' scan lines, the islands' probes): a refusal
     must come first."""
+    import sunset.pipeline.frame as frame
     import sunset.vector.direct as vdirect
 
     def refuse(*_, **__):
         raise AssertionError("rays were traced before the budget refused the request")
 
-    monkeypatch.setattr(vdirect, "run_strips", refuse)
+    monkeypatch.setattr(frame, "run_strips", refuse)
     monkeypatch.setattr(vdirect, "probe_refinement", refuse)
 
 
@@ -196,7 +197,7 @@ def test_many_islands_at_a_large_size_are_refused(capsys, tmp_path, no_tracing):
 
 def test_many_islands_at_a_small_size_render(capsys, tmp_path):
     """The same 127 islands at 64x48 are within the bound and render; the islands' samples stay in the bound."""
-    from sunset.vector.direct import trace_direct
+    from sunset.pipeline.frame import trace_direct
 
     base = Scene.default()
     crowd = replace(base, islands=(base.islands * 43)[:MAX_ISLANDS]).with_size(64, 48)
@@ -236,7 +237,7 @@ def test_parallel_frames_keep_to_the_memory_budget(monkeypatch):
     import concurrent.futures
 
     import sunset.constants as C
-    from sunset.tape.cycle import code_frames
+    from sunset.pipeline.cycle import code_frames
 
     scene = Scene.default().with_size(24, 16)
     one = predict_work(scene).bytes

@@ -41,7 +41,7 @@ def test_bad_jobs_is_one_clear_error(value, capsys, tmp_path):
 
 def test_jobs_reaches_the_frame_workers(monkeypatch, tmp_path):
     seen = {}
-    import sunset.recorder.film as film
+    import sunset.pipeline.film as film
 
     real = film.render_cycle
 

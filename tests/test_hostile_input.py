@@ -22,8 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
+from hypothesis import given, HealthCheck, settings, strategies as st
 
 import sunset
 from sunset import io as sio
@@ -32,7 +31,7 @@ from sunset.constants import (FRAME_BYTES_PER_PIXEL, MAX_COSINES, MAX_CYCLE_FRAM
                               MAX_PIXELS, MAX_SCENE_BYTES, MAX_SEA_SAMPLES_PER_PIXEL)
 from sunset.errors import SunsetError
 from sunset.model.islands import Island, Paraboloid
-from sunset.model.scene import Scene, _dump_toml
+from sunset.model.scene import _dump_toml, Scene
 from sunset.bench.memory import measure_bytes_per_pixel
 from sunset.vector.budget import check_work, predict_work
 
@@ -241,7 +240,7 @@ def test_too_many_islands_is_one_error(capsys, tmp_path):
 
 def test_the_last_island_index_is_coded_right():
     """4: the island at index 127 renders as the same island at index 1 does."""
-    from sunset.vector.render import render
+    from sunset.pipeline.frame import render
 
     base = Scene.default().with_size(48, 32)
     seen = base.islands[1]                                   # the middle island, in view
@@ -451,7 +450,7 @@ def test_sliver_window_is_refused_at_once(capsys, tmp_path, scene_file):
 
 def test_predicted_samples_are_the_renderers():
     """10: the prediction is exact for the sea and a bound for the islands (a cheap check of the budget)."""
-    from sunset.vector.direct import trace_direct
+    from sunset.pipeline.frame import trace_direct
 
     for scene in (Scene.default().with_size(60, 40), Scene.default().with_size(17, 90).still()):
         info = {}
@@ -469,7 +468,7 @@ def test_memory_per_pixel_is_within_the_budget():
     NumPy's, which tracemalloc sees), the hungrier of the two paths.
     """
     from sunset.figures.paper import render_tape
-    from sunset.recorder.dicomed import expose
+    from sunset.pipeline.frame import expose
 
     per_pixel = measure_bytes_per_pixel(Scene.default())
     assert 100 < per_pixel <= FRAME_BYTES_PER_PIXEL, per_pixel
@@ -755,9 +754,11 @@ def test_export_refuses_to_overwrite_its_scene(capsys, tmp_path):
 def test_hours_beyond_half_a_day_of_sunset_are_refused_before_any_work(capsys, tmp_path, monkeypatch, argv,
                                                                          option):
     # the sun goes round its circle in 24 h: every position is within ±12 h of sunset; tracing must not start
-    import sunset.vector.render as vr
+    import sunset.pipeline.frame as frame
 
-    monkeypatch.setattr(vr, "render", lambda *a, **k: pytest.fail("rendered before the hours were checked"))
+    # every traced frame's depth buffer: no frame is traced before the hours are checked
+    monkeypatch.setattr(frame, "depth_buffer", lambda *a, **k: pytest.fail("rendered before the hours were checked"))
+    monkeypatch.setattr(frame, "island_pass", lambda *a, **k: pytest.fail("rendered before the hours were checked"))
     suffix = {"render": ".png", "film": ".mp4", "player": ".html"}[argv[0]]
     out = tmp_path / ("out" + suffix)
     code, _, err = run(capsys, *argv, "-o", out)

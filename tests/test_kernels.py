@@ -22,20 +22,13 @@ import numpy as np
 import pytest
 
 from sunset import kernels
-from sunset.vector import heightfield_numba
-from sunset.vector import reflect_numba
-from sunset.vector import heightfield as hf
-from sunset.vector import direct
-from sunset.vector import island_samples
-from sunset.vector import pierce
-from sunset.vector import reflect
-from sunset.vector import crests
-from sunset.tape.codes import encode
+from sunset.vector import crests, heightfield as hf, heightfield_numba, island_samples, pierce, reflect_numba
+from sunset.pipeline.frame import encode, render
 from sunset.constants import SEA, SKY
 from sunset.model.islands import Island, Paraboloid
-from sunset.vector.render import render
-from sunset.model.scene import Scene, as_scene, scene_names
+from sunset.model.scene import as_scene, Scene, scene_names
 from sunset.model.waves import Sea, WaveTrain
+from sunset.pipeline.frame import island_pass, trace_direct, trace_reflections
 
 from .agree import assert_codes_agree, assert_geometry_agrees
 from .vector.test_crests_numba import CREST_DISTANCE_RTOL, CREST_GRAZING_SHARE
@@ -279,10 +272,10 @@ def test_a_larger_frame_agrees_on_both_paths():
 def test_write_back_into_a_non_contiguous_frame():
     scene = Scene.default().with_size(40, 30)
     with kernels.use_compiled(True):
-        frame = direct.trace_direct(scene, 0.0)
+        frame = trace_direct(scene, 0.0)
         frame.finish_direct()
         frame.ray = np.asfortranarray(frame.ray)  # reshape(-1) of this would copy
-        reflect.trace_reflections(scene, frame, 1)
+        trace_reflections(scene, frame, 1)
         ref = render(scene, 0.0, 1)
     frames_equal(frame, ref)
 
@@ -341,7 +334,7 @@ def test_strips_cut_the_range_into_contiguous_pieces():
 
 @pytest.mark.parametrize("compiled", [False, True])
 def test_frames_codes_and_exposures_do_not_depend_on_the_threads(compiled):
-    from sunset.recorder.dicomed import expose
+    from sunset.pipeline.frame import expose
 
     scenes = small_scenes()
     scenes["big"] = Scene.default().with_size(260, 230)
@@ -368,9 +361,8 @@ import json, time
 from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
 from sunset import kernels
 from sunset.model.scene import Scene
-from sunset.tape.codes import encode
-from sunset.vector.render import render
-from sunset.vector import heightfield_numba, slopes_numba, island_samples_numba, reflect_numba, direct_numba
+from sunset.pipeline.frame import encode, render
+from sunset.vector import direct_numba, heightfield_numba, island_samples_numba, reflect_numba, slopes_numba
 from sunset.tape import codes_numba
 scene = Scene.default().with_size(256, 192)
 encode(scene, render(scene, 0.5, 2, sea_bounces=False), seed=0)
@@ -408,7 +400,7 @@ def test_an_island_pass_computed_once_serves_every_time(compiled):
 
     scene = Scene.default().with_size(120, 100)
     with kernels.use_compiled(compiled):
-        islands = direct.island_pass(scene)
+        islands = island_pass(scene)
         before = (islands.u.copy(), islands.code.copy())
         for t in (0.0, 0.9, 2.3):
             frames_equal(render(scene, t, 2, islands=islands), render(scene, t, 2))

@@ -24,17 +24,10 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sunset"
 #: holds the threads, the worker processes and the work budget.
 RANK = {"model": 0, "vector": 1, "tape": 1, "recorder": 1, "light": 1, "pipeline": 2}
 STAGES = {name for name, rank in RANK.items() if rank == 1}
-#: What one stage hands another: the data, never the work (the frame's fields, the tape on disk). A stage
-#: may import these modules of another stage; they import no stage module but each other.
-INTERFACES = {("vector", "frame"), ("tape", "tapefile")}
-#: Imports by which one stage still runs or reads another (module, the stage module it imports), struck off
-#: as the pipeline layer takes them over (issue 28); each must still be there.
-NOT_YET_CHAINED = {
-    ("light/shore", "vector/pierce"), ("recorder/colour_tables", "tape/codes"), ("recorder/dicomed", "tape/codes"),
-    ("recorder/film", "tape/cycle"), ("recorder/player", "tape/codes"), ("recorder/player", "tape/cycle"),
-    ("tape/codes", "vector/frame"), ("tape/cycle", "vector/budget"), ("tape/cycle", "vector/render"),
-    ("tape/still", "vector/direct"), ("tape/still", "vector/reflect"),
-}
+#: What one stage hands another, the data and never the work: the frame's fields, what a code means, the tape
+#: on disk; and the geometry of a ray against an island, which the reflected rays and the light on the shores
+#: both use. A stage may import these modules of another stage; they import no stage module but each other.
+INTERFACES = {("vector", "frame"), ("vector", "pierce"), ("tape", "codemap"), ("tape", "tapefile")}
 #: Modules at the top of the package that any layer may import (they import no layer).
 UTILITIES = {"errors", "constants", "io", "kernels", "provenance", "guard", "escape", "__version__"}
 #: What sits on top of the pipeline and may import anything.
@@ -166,7 +159,7 @@ def layer_violations(path, parts) -> list[str]:
             continue
         elif me in STAGES and tuple(target[:2]) in INTERFACES:
             continue
-        elif ("/".join(parts), "/".join(target[:2])) not in NOT_YET_CHAINED:
+        else:
             where = "beside" if RANK[other] == RANK[me] else "above"
             found.append(f"{'/'.join(parts)} ({me}) imports {'.'.join(target)} ({other}), {where} its layer")
     return found
@@ -192,12 +185,6 @@ def test_interfaces_import_no_stage():
         for target in imported(path, (stage, name)):
             assert target[0] in UTILITIES or target[0] == "model" or tuple(target[:2]) in INTERFACES, \
                 f"{stage}/{name} is what stages hand each other but imports {'.'.join(target)}"
-
-
-def test_the_imports_not_yet_chained_are_still_there():
-    """Strike an import off NOT_YET_CHAINED once the pipeline layer has taken it over."""
-    found = {("/".join(parts), "/".join(t[:2])) for path, parts in modules() for t in imported(path, parts)}
-    assert NOT_YET_CHAINED <= found, sorted(NOT_YET_CHAINED - found)
 
 
 @pytest.mark.parametrize("path, parts", list(modules()), ids=lambda v: "/".join(v) if isinstance(v, tuple) else "")

@@ -10,10 +10,7 @@ import pytest
 import sunset
 from sunset.errors import SunsetError
 from sunset.model.scene import as_scene, scene_names
-from sunset.recorder.dicomed import expose
-from sunset.tape.codes import encode
-from sunset.tape.cycle import code_frame
-from sunset.vector.render import render
+from sunset.pipeline.frame import code_frame, encode, expose, render
 
 
 def test_picture_is_the_pipeline_in_one_call():

@@ -153,7 +153,8 @@ def test_rgb_back_end_pngs_record_provenance(tmp_path, depth):
 def test_the_player_page_and_its_frames_record_provenance(tmp_path):
     import base64
 
-    from sunset.recorder.player import read_player_data, write_player
+    from sunset.pipeline.film import write_player
+    from sunset.recorder.player import read_player_data
 
     path = write_player(Scene.default(), tmp_path / "p.html", frames=2, size=(16, 12), from_hours=0.5,
                         to_hours=0.45, progress=False)

@@ -50,17 +50,12 @@ from pathlib import Path
 
 from ..constants import CRAY1_SECONDS_FIGURE6
 from ..kernels import keep_freed_memory
-from . import extra
-from . import memory as memory_bench
+from . import explorer as explorer_bench, extra, memory as memory_bench, ocean as ocean_bench
 from .extra import timed
-from . import explorer as explorer_bench
-from . import ocean as ocean_bench
 from .frame import _frame_once, _measure_frame  # noqa: F401 (the frame's rows; the profile times the same frame)
 from . import ripples as ripples_bench
 from .profile import _function_name, _measure_profile  # noqa: F401 (the profile's row; tests use the name)
-from . import colour as colour_bench
-from . import rgb as rgb_bench
-from . import series as stokes_bench
+from . import colour as colour_bench, rgb as rgb_bench, series as stokes_bench
 
 #: Repeats per measurement (after one warm-up run).
 REPEATS = 5
@@ -94,7 +89,7 @@ def _measure_cycle(width: int, height: int, repeats: int, frames: int = CYCLE_FR
     """A wave cycle coded (both cores) and filmed: the two steps and their sum."""
     import tempfile
 
-    from ..recorder.film import render_cycle, write_film
+    from ..pipeline.film import render_cycle, write_film
     from ..model.scene import Scene
 
     scene = Scene.default().with_size(width, height)
@@ -114,8 +109,7 @@ def _measure_cycle(width: int, height: int, repeats: int, frames: int = CYCLE_FR
 
 def _vector_stage_seconds(scene, repeats: int) -> float:
     """Median seconds of render + encode (the vector stage) for one scene, after a warm-up."""
-    from ..tape.codes import encode
-    from ..vector.render import render
+    from ..pipeline.frame import encode, render
 
     return statistics.median(timed(lambda: encode(scene, render(scene, 0.0, 2)), repeats))
 
@@ -156,7 +150,7 @@ def _measure_scaling(width: int, height: int, repeats: int) -> dict:
     out = {"size": {"n": sizes, "seconds": [], "sea_samples": [], "island_samples": []},
            "trains": {"n": list(SCALING_TRAINS), "seconds": []},
            "islands": {"n": list(SCALING_ISLANDS), "seconds": []}, "size_for_counts": SCALING_SIZE}
-    from ..vector.direct import trace_direct
+    from ..pipeline.frame import trace_direct
 
     for n in sizes:
         sc = base.with_size(n, n)

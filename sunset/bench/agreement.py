@@ -215,7 +215,7 @@ def _summary(err: np.ndarray) -> dict:
 def _direct(scene, t: float) -> dict:
     """Both paths' direct frames of ``scene`` at ``t`` (False: NumPy, True: compiled)."""
     from .. import kernels
-    from ..vector.direct import trace_direct
+    from ..pipeline.frame import trace_direct
 
     out = {}
     for compiled in (False, True):
@@ -232,8 +232,7 @@ def compare(scene, t: float, reflections: int, sea_bounces: bool, seed: int = 0,
     import copy
 
     from .. import kernels
-    from ..tape.codes import encode
-    from ..vector.reflect import trace_reflections
+    from ..pipeline.frame import encode, trace_reflections
 
     direct = direct or _direct(scene, t)
     frames, codes = {}, {}

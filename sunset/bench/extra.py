@@ -46,9 +46,8 @@ OLD_X264_PARAMS = ["-preset", "medium", "-crf", "18", "-threads", "2", "-x264-pa
 
 
 def _frame(scene):
-    """One frame of the 8-bit pipeline: scene → tape (:func:`~sunset.tape.cycle.code_frame`) → film recorder."""
-    from ..recorder.dicomed import expose
-    from ..tape.cycle import code_frame
+    """One frame of the 8-bit pipeline: scene → tape (:func:`~sunset.pipeline.frame.code_frame`) → film recorder."""
+    from ..pipeline.frame import code_frame, expose
 
     return expose(scene, code_frame(scene, 0.0), 0.35)
 
@@ -110,7 +109,8 @@ def measure_film_look(width: int, height: int, repeats: int = 1) -> dict:
     import tempfile
 
     from ..model.scene import Scene
-    from ..recorder.film import _X264_PARAMS, _even, film_frames, render_cycle
+    from ..pipeline.film import render_cycle
+    from ..recorder.film import _even, _X264_PARAMS, film_frames
 
     scene = Scene.default().with_size(width, height)
     tape = render_cycle(scene, 8, progress=False)
@@ -136,7 +136,7 @@ def povray_comparison(width: int, height: int, our_seconds: float, out_dir: Path
     """
     from ..figures.povray import compare, povray_path, render_pov
     from ..model.scene import Scene
-    from ..vector.render import render
+    from ..pipeline.frame import render
 
     if povray_path() is None:
         return None
@@ -165,8 +165,7 @@ def measure_limits(width: int, height: int, repeats: int = 5) -> dict:
     frame cannot be faster than the larger of the two.
     """
     from ..model.scene import Scene
-    from ..vector.direct import trace_direct
-    from ..vector.render import render
+    from ..pipeline.frame import render, trace_direct
 
     cores = os.cpu_count() or 1
     big = np.ones(32 * 2**20)               # 256 MiB

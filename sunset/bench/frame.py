@@ -13,10 +13,7 @@ def _frame_once(scene, t: float = 0.0) -> dict:
     autogroup scheduler gives each session a share of the CPUs, so a loaded
     machine lends a frame's second thread little extra time.)
     """
-    from ..tape.codes import encode
-    from ..recorder.dicomed import expose
-    from ..vector.direct import trace_direct
-    from ..vector.reflect import trace_reflections
+    from ..pipeline.frame import encode, expose, trace_direct, trace_reflections
 
     info: dict = {}
     c0 = time.process_time()

@@ -18,9 +18,7 @@ def measure_bytes_per_pixel(scene, sizes=((100, 80), (300, 240)), compiled: bool
     import tracemalloc
 
     from ..kernels import use_compiled
-    from ..recorder.dicomed import expose
-    from ..tape.codes import encode
-    from ..vector.render import render
+    from ..pipeline.frame import encode, expose, render
 
     def peak(w, h):
         s = scene.with_size(w, h)

@@ -22,7 +22,7 @@ def measure_rgb(width: int, height: int, repeats: int) -> dict:
     from ..light.lighting import Lighting
     from ..light.render import shade_display, supersampled
     from ..pipeline.rgb import trace_geometry
-    from ..vector.render import render
+    from ..pipeline.frame import render
     from ..model.scene import Scene
 
     keep_freed_memory()

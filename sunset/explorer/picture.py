@@ -63,7 +63,7 @@ class Renderer:
         began = time.perf_counter()
         scene = scene_for(self.start, view)
         if view.shading == "codes":
-            from ..recorder.dicomed import expose
+            from ..pipeline.frame import expose
 
             key = (scene, float(view.t), view.reflections, view.seed)
             if key != self._key:
@@ -84,17 +84,14 @@ class Renderer:
         return Picture(scene, view, rgb, codes, time.perf_counter() - began)
 
     def _code(self, scene: Scene, t: float, reflections: int, seed: int) -> np.ndarray:
-        """The 8-bit codes of ``scene`` at ``t``: :func:`sunset.tape.cycle.code_frame`'s bytes, made from what is kept.
+        """The 8-bit codes of ``scene`` at ``t``: :func:`sunset.pipeline.frame.code_frame`'s bytes, made from what is kept.
 
         With the still part of the wave cycle (:meth:`_still_part`) only the
         sea is traced and coded. Otherwise the frame is traced (or, when only
         the sun moved, the last frame taken again: the vector stage never looks
         at the sun) and coded, as ``code_frame`` does.
         """
-        from ..tape.codes import encode
-        from ..tape.cycle import code_frame
-        from ..tape.still import CyclePass
-        from ..vector.render import render
+        from ..pipeline.frame import CyclePass, code_frame, encode, render
 
         shared = self._still_part(scene, seed)
         if isinstance(shared, CyclePass) and scene.clouds is None and not scene.posts:
@@ -106,18 +103,18 @@ class Renderer:
         return encode(scene, self._frame[1], seed=seed)
 
     def _still_part(self, scene: Scene, seed: int):
-        """What this frame can share with the last ones: a :class:`~sunset.tape.still.CyclePass`, or the islands' pass.
+        """What this frame can share with the last ones: a :class:`~sunset.pipeline.frame.CyclePass`, or the islands' pass.
 
-        The islands' pass (:func:`sunset.vector.direct.island_pass`) is kept
+        The islands' pass (:func:`sunset.pipeline.frame.island_pass`) is kept
         while the camera, the islands and the sea's height stay. The still part
-        of a wave cycle (:func:`sunset.tape.still.cycle_pass`: the islands' and
+        of a wave cycle (:func:`sunset.pipeline.cycle.cycle_pass`: the islands' and
         the sky's codes) costs most of a frame to make and saves less: it is
         made for the second frame in a row that can share it (the time
         slider, a train's direction) and kept while it can be. The codes are
-        the same bytes either way (:func:`sunset.tape.cycle.code_frame`).
+        the same bytes either way (:func:`sunset.pipeline.frame.code_frame`).
         """
-        from ..tape.still import cycle_pass, still_key
-        from ..vector.direct import island_pass
+        from ..pipeline.cycle import cycle_pass, still_key
+        from ..pipeline.frame import island_pass
 
         key = still_key(scene, seed)
         if self._still is not None and self._still.key == key:

@@ -75,15 +75,14 @@ def make_figure(name: str, out: Path, scene, seed: int = 0, film_frames: int = 3
         from .rgb import quantisation_figure
         return [quantisation_figure(out / "quantisation.png", scene, seed=seed)]
     if name == "clouds":
-        from .future import clouds_figure
-        from .future import clouds_rgb_figure
+        from .future import clouds_figure, clouds_rgb_figure
         rgb = clouds_rgb_figure(out / "clouds-rgb.png", scene)       # first: clouds.png codes its traced frame
         return [clouds_figure(out / "clouds.png", scene, seed=seed), rgb]
     if name == "ripples":
         from .future import ripples_figure
         return [ripples_figure(out / "ripples.png", seed=seed)]
     if name == "film":
-        from ..recorder.film import make_film
+        from ..pipeline.film import make_film
         return list(make_film(scene, out / "film.mp4", out / "film-preview.webp", frames=film_frames,
                               seed=seed, progress=progress, workers=workers))
     raise SunsetError(f"unknown figure {name!r}")  # pragma: no cover - parse_only guards
@@ -123,7 +122,7 @@ def make_figures(out: str | Path = "figures", only: str | None = None, size: tup
     """Make the figures named by ``only`` (all by default) into ``out``.
 
     ``workers`` processes render the film's frames (default: ``$SUNSET_WORKERS``
-    or every usable CPU, :func:`sunset.tape.cycle.frame_workers`).
+    or every usable CPU, :func:`sunset.pipeline.workers.frame_workers`).
     """
     from ..model.scene import Scene
 
@@ -173,7 +172,7 @@ def _make_all(names, out: Path, scene, log=print, **kw) -> list[Path]:
     except OSError as exc:
         raise SunsetError(f"{out}: cannot write figures there ({exc.strerror or exc})") from None
     from . import shared
-    from .lanes import Queue, SideLane, plan
+    from .lanes import plan, Queue, SideLane
 
     units, two = plan(names, kw.get("workers"))
     lane = None

@@ -323,10 +323,9 @@ class ReflectionModes:
 
 def reflection_modes(scene, t: float = 0.0, seed: int = 0) -> ReflectionModes:
     """Render ``scene`` at time ``t`` as Figure 5 (one reflection, |R_z|) and Figure 6 (two), and compare."""
-    from ..tape.codes import encode
+    from ..pipeline.frame import encode, render
     from ..constants import SEA
     from ..vector.pierce import reflect
-    from ..vector.render import render
 
     require_time("t", t)
     f5 = render(scene, t, 1)
@@ -388,7 +387,7 @@ class AfternoonGlitter:
 
 def afternoon_glitter(scene, frame, hours: float) -> AfternoonGlitter:
     """Measure, on a traced frame, whether the sun ``hours`` before sunset can glitter on its sea."""
-    from ..constants import SEA, SKY, RADIANS_PER_HOUR
+    from ..constants import RADIANS_PER_HOUR, SEA, SKY
 
     require_finite("hours", hours)
     sun = scene.sun

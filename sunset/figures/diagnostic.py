@@ -1,6 +1,6 @@
 """The direct-ray diagnostic: surface classes, normals and distances of the default scene.
 
-Three maps of one frame of :func:`sunset.vector.direct.trace_direct`: what the
+Three maps of one frame of :func:`sunset.pipeline.frame.trace_direct`: what the
 ray through each pixel centre meets (sky, sea, or an island's beach, cliff or
 hill), the unit normal there coloured as RGB = (N + 1)/2 (so an upward normal
 is lavender, one facing the eye is green-tinted), and the distance to the hit
@@ -92,7 +92,7 @@ def diagnostic(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: float 
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
-    from ..vector.direct import trace_direct
+    from ..pipeline.frame import trace_direct
 
     path, scene = prepare(path, size, scene)
     info: dict = {}

@@ -46,7 +46,7 @@ def clouds_figure(path, scene: Scene, seed: int = 0, t: float = 0.0) -> Path:
     """Write ``clouds.png``: the cloudy scene's tape exposed at both :data:`CLOUD_HOURS`, side by side."""
     from . import shared
     from .paper import png_metadata
-    from ..recorder.dicomed import expose
+    from ..pipeline.frame import expose
 
     scene = cloudy(scene)
     codes = shared.codes(scene, t, 2, seed)              # from clouds-rgb.png's frame when it was traced first

@@ -5,7 +5,7 @@ figures that share what they compute (:mod:`sunset.figures.shared`: Figure 6's
 frame is also behind ``fig6-rgb.png`` and ``quantisation.png``, and Figure 7
 re-exposes its tape; the RGB figures share the light's tables), so that nothing
 is computed twice. With two or more
-workers (:func:`sunset.tape.cycle.frame_workers`) and two or more units to
+workers (:func:`sunset.pipeline.workers.frame_workers`) and two or more units to
 make, a second process is forked at the start of the run; it makes the first
 unit (the film, the longest: its wave cycle, 192 exposures and the encoders)
 while this process makes the second, and then each process takes the next
@@ -61,7 +61,7 @@ def plan(names: list[str], workers: int | None) -> tuple[list[list[str]], bool]:
 
     Each unit keeps only the asked figures of :data:`UNITS`' unit, in ``names``' order.
     """
-    from ..tape.cycle import frame_workers
+    from ..pipeline.workers import frame_workers
 
     units = [[n for n in names if n in unit] for unit in UNITS]
     units = [u for u in units if u]

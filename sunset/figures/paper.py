@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..recorder.dicomed import expose
+from ..pipeline.frame import expose
 from ..errors import require_int_range
 from ..io import save_png
 from ..model.scene import Scene

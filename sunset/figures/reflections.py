@@ -54,7 +54,7 @@ def reflection_modes(path, size: tuple[int, int] = DEFAULT_SIZE, scene=None, t: 
     """
     from matplotlib.figure import Figure
 
-    from ..vector.render import render
+    from ..pipeline.frame import render
 
     path, scene = prepare(path, size, scene)
     frames = {mode: render(scene, t, mode) for mode in (0, 1, 2)}

@@ -64,20 +64,19 @@ def _cached(kind: str, key: tuple):
 
 
 def frame(scene, t: float, reflections: int):
-    """:func:`sunset.vector.render.render` of ``scene`` at ``t`` (the whole frame, with the sea's bounces)."""
-    from ..vector.render import render
+    """:func:`sunset.pipeline.frame.render` of ``scene`` at ``t`` (the whole frame, with the sea's bounces)."""
+    from ..pipeline.frame import render
 
     return once("frame", (scene, float(t), int(reflections)), lambda: render(scene, float(t), int(reflections)))
 
 
 def codes(scene, t: float, reflections: int, seed: int) -> np.ndarray:
-    """The 8-bit codes (H, W) of ``scene`` at ``t``: :func:`sunset.tape.cycle.code_frame`.
+    """The 8-bit codes (H, W) of ``scene`` at ``t``: :func:`sunset.pipeline.frame.code_frame`.
 
-    From the shared frame when a figure traced it already (:func:`sunset.tape.codes.encode` of it: the
+    From the shared frame when a figure traced it already (:func:`sunset.pipeline.frame.encode` of it: the
     same bytes).
     """
-    from ..tape.codes import encode
-    from ..tape.cycle import code_frame
+    from ..pipeline.frame import code_frame, encode
 
     def make():
         whole = _cached("frame", (scene, float(t), int(reflections)))
@@ -89,8 +88,8 @@ def codes(scene, t: float, reflections: int, seed: int) -> np.ndarray:
 
 
 def exposure(scene, t: float, reflections: int, seed: int, hours: float) -> np.ndarray:
-    """:func:`sunset.recorder.dicomed.expose` of :func:`codes` through the tables ``hours`` before sunset."""
-    from ..recorder.dicomed import expose
+    """:func:`sunset.pipeline.frame.expose` of :func:`codes` through the tables ``hours`` before sunset."""
+    from ..pipeline.frame import expose
 
     return once("exposure", (scene, float(t), int(reflections), int(seed), float(hours)),
                    lambda: expose(scene, codes(scene, t, reflections, seed), float(hours)))

@@ -19,9 +19,10 @@ The stages (below this layer, side by side)::
 
 What chains them (this package):
 
-* :mod:`sunset.pipeline.budget`: the work budget, checked once at each entry
-  (a frame, a cycle, a film, the player, an RGB frame or film) and passed
-  down with the scene's sampling, never again per stage;
+* the work budget, checked once at each entry (a frame, a cycle, a film, the
+  player: :func:`sunset.vector.budget.check_work`; an RGB frame or film:
+  :mod:`sunset.pipeline.budget`) and passed down with the scene's sampling,
+  never again per stage;
 * :mod:`sunset.pipeline.frame`: a frame. The 8-bit path
   (:func:`~sunset.pipeline.frame.code_frame`) keeps only what the codes
   need: after the depth buffer, each strip of rows goes through the direct
@@ -39,6 +40,9 @@ What chains them (this package):
 * :mod:`sunset.pipeline.workers`: the process pools.
 
 The sea's scan line is chosen by the sea's kind (:func:`sunset.pipeline.frame.sea_stage`):
-another kind of sea (a wind sea sampled as ``sea.wind.sample(x, y, t)``) plugs
-in as another strip kernel with the same arguments.
+the wave trains' (:func:`sunset.vector.heightfield.sea_columns`) or a wind
+sea's FFT tile (:func:`sunset.vector.windsea_scan.wind_columns`), strip
+kernels with the same arguments. A wind sea's strips of rows go through the
+stages one after the other (each stage's own compiled twin): the fused pass
+knows the trains' slopes only.
 """

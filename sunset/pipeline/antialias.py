@@ -28,6 +28,7 @@ from ..light.geometry import Geometry
 from ..light.lighting import Lighting
 from ..light.render import check_samples, shade_display, supersampled
 from ..light.tone import encode_srgb
+from .frame import render
 
 __all__ = ["REFERENCE_SAMPLES", "AAResult", "edge_masks", "aa_errors"]
 
@@ -72,8 +73,6 @@ def _rms(a, b, mask) -> float:
 def aa_errors(scene, t: float = 0.0, hours: float = 0.35, samples=(1, 4, 9, 16), reflections: int = 2,
               reference: int = REFERENCE_SAMPLES) -> AAResult:
     """Render ``scene`` at each sample count and at ``reference`` samples; the errors at edges and the sun's rim."""
-    from ..vector.render import render
-
     light = Lighting.for_scene(scene, hours)
     kr = check_samples(reference)
     ref_frame = render(supersampled(scene, kr), float(t), reflections)

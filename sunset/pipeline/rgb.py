@@ -29,6 +29,8 @@ from ..light.glitter import Glitter
 from ..light.output import check_rgb_output, save_rgb
 from ..light.render import check_samples, frame_light, shade_display, shade_scene_linear, supersampled
 from .budget import check_geometry_bytes, check_rgb_work, workers_within_budget
+from .frame import render
+from .workers import start_method
 
 __all__ = ["trace_geometry", "render_rgb", "write_rgb_frame", "trace_cycle", "film_frames"]
 
@@ -38,8 +40,6 @@ def trace_geometry(scene, t: float = 0.0, reflections: int = 2, samples: int = 1
 
     ``checked``: the caller has checked the budget already (a film, for all its frames).
     """
-    from ..vector.render import render
-
     k = check_samples(samples)
     require_time("t", t)
     if not checked:
@@ -133,7 +133,6 @@ def film_frames(scene, geometries, hours, samples: int = 1, times=None, workers:
         than the memory budget allows (:func:`sunset.pipeline.budget.workers_within_budget`).
     """
     import multiprocessing
-    import sys
     from collections import deque
     from concurrent.futures import ProcessPoolExecutor
 
@@ -151,9 +150,8 @@ def film_frames(scene, geometries, hours, samples: int = 1, times=None, workers:
             yield film_frame(scene, geometries, times, hours, k, j, lights)
         return
     state = {"scene": scene, "geometries": geometries, "times": times, "hours": hours, "k": k}
-    methods = multiprocessing.get_all_start_methods()
-    fork = "fork" in methods and sys.version_info < (3, 12)      # as sunset.tape.cycle.code_frames chooses
-    method = "fork" if fork else ("forkserver" if "forkserver" in methods else "spawn")
+    method = start_method()
+    fork = method == "fork"
     _FILM.clear()
     _FILM.update(state)
     pool = ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method),

@@ -1,6 +1,6 @@
 """The film recorder's colour translation tables: 256 entries for each of three passes.
 
-For each hour before sunset, every code of the tape (:mod:`sunset.tape.codes`)
+For each hour before sunset, every code of the tape (:mod:`sunset.tape.codemap`)
 gets a colour from the physical sky (:mod:`sunset.model.sky`) seen through the
 film and the eye (:mod:`sunset.model.eye`):
 
@@ -30,7 +30,7 @@ from ..model.sky import (direct_irradiance, dome_directions, elevation, irradian
                          sky_radiance, spectral_data, sun_radiance)
 from ..model.clouds import Clouds, cloud_radiance
 from ..model.sun import Sun, require_hours
-from ..tape.codes import (CLOUDY_CODE_MAP, CODE_MAP, cloud_code_depths, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
+from ..tape.codemap import (CLOUDY_CODE_MAP, CODE_MAP, cloud_code_depths, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations,
                           track_elevation_max)
 
 __all__ = ["tables", "tables_linear", "sun_colour", "glitter_weights"]
@@ -223,7 +223,7 @@ def tables(sun: Sun, hours: float, clouds: Clouds | None = None) -> np.ndarray:
         Hours before sunset (θ = 15°/h); negative after sunset.
     clouds : Clouds, optional
         The scene's cloud layer: the tables then follow
-        :data:`~sunset.tape.codes.CLOUDY_CODE_MAP`.
+        :data:`~sunset.tape.codemap.CLOUDY_CODE_MAP`.
 
     Returns
     -------

@@ -5,9 +5,12 @@ green and blue filters, each time through a 256-entry translation table
 (:mod:`sunset.recorder.colour_tables`). It knew nothing of the scene: only the
 code of each pixel, its raster position and, through the tables, the sun's
 position P(θ) = U cos θ + V sin θ with θ = 15° per hour before sunset. This
-module is that machine. It reads codes (:mod:`sunset.tape.codes`), the
+module is that machine. It reads codes (:mod:`sunset.tape.codemap`), the
 scene's camera (raster position → direction) and its sun, and never a
-:class:`~sunset.vector.frame.Frame`.
+:class:`~sunset.vector.frame.Frame`. Its strip kernel is :func:`lookup` (a
+strip of rows of codes through the table); the pipeline exposes a frame
+(:func:`sunset.pipeline.frame.expose`: :func:`exposure_table`, :func:`lookup`
+over the strips, :func:`add_sun`).
 
 The sun-disk rule
 -----------------
@@ -26,14 +29,13 @@ import numpy as np
 
 from ..constants import SUN_SUPERSAMPLE
 from ..errors import SunsetError, real_number, shown
-from ..kernels import row_strips, run_strips, twin
+from ..kernels import twin
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
-from ..model.scene import SceneLike, as_scene
 from ..model.sun import Sun
-from ..tape.codes import code_map
+from ..tape.codemap import code_map
 from .colour_tables import sun_colour, tables
 
-__all__ = ["PASSES", "sun_coverage", "lookup", "expose"]
+__all__ = ["PASSES", "sun_coverage", "lookup", "check_codes", "exposure_table", "add_sun", "expose_frame"]
 
 #: The three passes of the film recorder, in order.
 PASSES = ("red", "green", "blue")
@@ -126,26 +128,8 @@ def lookup(lut, codes, out) -> None:
     np.take(lut, codes, axis=0, out=out)
 
 
-def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
-    """Expose a frame of codes: three passes through the tables, then the sun.
-
-    Parameters
-    ----------
-    scene : Scene, str or path
-        Only its camera (raster position → direction) and its sun are used (a
-        packaged scene's name or a scene file also do).
-    codes : ndarray (H, W) uint8
-        One frame of the tape.
-    hours : float
-        Hours before sunset.
-
-    Returns
-    -------
-    ndarray (H, W, 3) uint8
-        sRGB image.
-    """
-    scene = as_scene(scene)
-    real_number("hours", hours)
+def check_codes(scene, codes) -> None:
+    """Raise :class:`SunsetError` unless ``codes`` is a uint8 array of the camera's (H, W)."""
     if not isinstance(codes, np.ndarray):
         raise SunsetError(f"codes must be a uint8 array, got {shown(codes)}")
     cam = scene.camera
@@ -155,14 +139,23 @@ def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
     if codes.shape != shape:
         raise SunsetError(f"codes must have the camera's shape {shape}, "
                           f"got {codes.shape}")
+
+
+def exposure_table(scene, hours: float) -> np.ndarray:
+    """The three passes' tables as one (256, 3) uint8 table: each code's (red, green, blue) at ``hours``."""
+    real_number("hours", hours)
+    return np.ascontiguousarray(tables(scene.sun, hours, scene.clouds).T)
+
+
+def add_sun(scene, codes, hours: float, rgb) -> None:
+    """The sun's disk on the exposed frame ``rgb`` (H, W, 3) uint8, in place: the sun-disk rule.
+
+    Sky codes wholly inside the disk take the sun's colour; near its rim a
+    mix, in linear light, weighted by the fraction of the pixel the disk
+    covers (:func:`sun_coverage`). Only the few pixels the disk touches are read.
+    """
+    cam = scene.camera
     clouds = scene.clouds
-    tab = tables(scene.sun, hours, clouds)
-    rgb = np.empty(codes.shape + (3,), np.uint8)
-    # the three passes, one through each filter (PASSES), as one lookup of the
-    # code's (red, green, blue)
-    lut = np.ascontiguousarray(tab.T)             # (256, 3)
-    run_strips(lambda r0, r1: lookup(lut, codes[r0:r1], rgb[r0:r1]),
-               row_strips(*codes.shape))
     rows, cols, cov = sun_coverage(cam, scene.sun, hours)
     if cov.size:
         to_sky = code_map(scene).reaches_sky(codes[rows, cols])
@@ -173,4 +166,13 @@ def expose(scene: SceneLike, codes: np.ndarray, hours: float) -> np.ndarray:
             mixed = (1.0 - weight) * box + weight * sun_lin
             rgb[rows, cols] = np.where(weight > 0, to_uint8(srgb_encode(mixed)),
                                        rgb[rows, cols])
+
+
+def expose_frame(scene, codes, hours: float):
+    """One frame of codes exposed in one piece (no threads: :func:`sunset.pipeline.frame.expose` cuts a frame
+    into strips on its threads; a film exposes whole frames side by side): the table, :func:`lookup`, the sun."""
+    check_codes(scene, codes)
+    rgb = np.empty(codes.shape + (3,), np.uint8)
+    lookup(exposure_table(scene, hours), codes, rgb)
+    add_sun(scene, codes, hours, rgb)
     return rgb

@@ -5,14 +5,17 @@ motion, written to tape once and rendered onto film again and again, "so that
 the repeated frames were differently illuminated each time through the cycle"
 (paper, *Color Table Animation*). Here:
 
-1. :func:`render_cycle` renders the N frames t_i = i T/N, i = 0 … N − 1, of one
-   period T of the sea (:attr:`sunset.model.waves.Sea.period`, from the dispersion
-   relation), and codes them into a :class:`~sunset.tape.tapefile.Tape`. Frame N would
-   be t = T, which is frame 0 again, so the cycle loops without a seam.
-2. :func:`write_film` replays the tape ``cycles`` times while the hours before
-   sunset run linearly from ``from_hours`` to ``to_hours``: film frame j
-   shows tape frame j mod N through the tables for its own hour. It writes an
-   MP4 (H.264, yuv420p, constant frame rate) and a small looping preview (GIF or WebP).
+1. the pipeline renders the N frames t_i = i T/N, i = 0 … N − 1, of one
+   period T of the sea (:func:`cycle_times`, :attr:`sunset.model.waves.Sea.period`,
+   from the dispersion relation), and codes them into a
+   :class:`~sunset.tape.tapefile.Tape` (:func:`sunset.pipeline.film.render_cycle`).
+   Frame N would be t = T, which is frame 0 again, so the cycle loops without a seam.
+2. the tape is replayed ``cycles`` times while the hours before sunset run
+   linearly from ``from_hours`` to ``to_hours``: film frame j shows tape
+   frame j mod N through the tables for its own hour (:func:`film_frames`).
+   :func:`write_video` writes the frames as an MP4 (H.264, yuv420p, constant
+   frame rate) and a small looping preview (GIF or WebP);
+   :func:`sunset.pipeline.film.write_film` feeds it a tape's frames.
 
 Only the film recorder runs in step 2: no frame is traced again.
 """
@@ -25,16 +28,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constants import (FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_CYCLE_FRAMES, MAX_FILM_CYCLES, MAX_FPS,
-                         MAX_TAPE_BYTES, MAX_TIME)
-from ..errors import SunsetError, real_number, require_bool, require_int_range
+from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_FILM_CYCLES, MAX_FPS, MAX_TIME
+from ..errors import SunsetError, real_number, require_int_range
 from ..io import all_or_nothing
-from ..tape.tapefile import Tape, write_tape
+from ..tape.tapefile import Tape
 
-from ..model.scene import SceneLike
 from ..model.sun import require_hours
 
-__all__ = ["cycle_times", "render_cycle", "film_hours", "film_frames", "write_film", "write_video", "make_film",
+__all__ = ["cycle_times", "film_hours", "film_frames", "write_video", "count_video_frames",
            "FILM_CYCLES", "PREVIEW_WIDTH", "PREVIEW_FRAMES"]
 
 #: Default number of times the cycle is replayed in the film.
@@ -110,48 +111,6 @@ def cycle_times(scene, frames: int) -> np.ndarray:
     return np.arange(frames, dtype=np.float64) * (float(period) / frames)
 
 
-def render_cycle(scene, frames: int, reflections: int = 2, seed: int = 0, progress: bool = True,
-                 workers: int | None = None) -> Tape:
-    """Render and code one wave cycle: the vector stage, once per frame.
-
-    The frames are independent, so they are rendered by ``workers``
-    processes at once (:func:`sunset.tape.cycle.code_frames`); the tape is
-    byte-identical to the one a single process makes.
-
-    Parameters
-    ----------
-    scene : Scene
-    frames : int
-        N, frames per cycle.
-    reflections : {0, 1, 2}
-        Reflection mode (see :mod:`sunset.vector.render`).
-    seed : int
-        Dither seed, reset for every frame.
-    progress : bool
-        Show a progress bar on stderr (when it is a terminal).
-    workers : int, optional
-        Processes to use; default ``$SUNSET_WORKERS`` or every CPU this process may use.
-
-    Returns
-    -------
-    Tape
-        N frames of codes at t_i = i T/N.
-    """
-    from ..tape.cycle import code_frames
-
-    require_int_range("reflections", reflections, 0, 2)
-    require_int_range("seed", seed, 0, 2**32 - 1)
-    times = cycle_times(scene, frames)
-    cam = scene.camera
-    if frames * cam.width * cam.height > MAX_TAPE_BYTES:
-        raise SunsetError(f"frames: {frames} frames at {cam.width}x{cam.height} would need a tape of "
-                          f"{frames * cam.width * cam.height / 2**30:.1f} GiB (at most "
-                          f"{MAX_TAPE_BYTES / 2**30:g} GiB): use fewer frames or a smaller picture")
-    with _bar(frames, "rendering the wave cycle", progress) as bar:
-        codes = code_frames(scene, times, reflections, seed, workers=workers, on_frame=lambda i, c: bar.update(1))
-    return Tape(scene=scene, codes=codes, times=times, reflections=reflections, seed=seed)
-
-
 def film_hours(from_hours: float, to_hours: float, count: int) -> np.ndarray:
     """Hours before sunset of each film frame: linear from ``from_hours`` to ``to_hours`` inclusive."""
     require_hours("from_hours", from_hours)
@@ -169,12 +128,13 @@ def film_frames(tape: Tape, from_hours: float = FILM_FROM_HOURS,
 
     Film frame j shows tape frame j mod N through the tables for its hour.
     """
-    from .dicomed import expose
+    from .dicomed import expose_frame
 
     require_int_range("cycles", cycles, 1)
     n = len(tape)
     for j, hours in enumerate(film_hours(from_hours, to_hours, cycles * n)):
-        yield float(hours), expose(tape.scene, tape.codes[j % n], float(hours))
+        codes = tape.codes[j % n]
+        yield float(hours), expose_frame(tape.scene, codes, float(hours))
 
 
 def _even(rgb: np.ndarray) -> np.ndarray:
@@ -201,36 +161,6 @@ def _even_parts(rgb: np.ndarray) -> tuple[np.ndarray, ...]:
     if w % 2 or not rgb.flags.c_contiguous:
         return (_even(rgb),)
     return (rgb, rgb[h - 1:]) if h % 2 else (rgb,)
-
-
-def _frames_ahead(tape: Tape, from_hours: float, to_hours: float, cycles: int):
-    """The pictures of :func:`film_frames`, exposed ahead on threads while the encoder works.
-
-    Yields each film frame's RGB picture, in film order. Each frame is exposed by the
-    same code as :func:`film_frames`; up to :data:`FILM_AHEAD` of them are
-    in hand at once, on :data:`FILM_EXPOSERS` threads (the colour tables of
-    each hour are most of the work, and NumPy releases the GIL for them).
-    """
-    from collections import deque
-    from concurrent.futures import ThreadPoolExecutor
-
-    from .dicomed import expose
-
-    n = len(tape)
-    hours = film_hours(from_hours, to_hours, cycles * n)
-
-    def job(j: int):
-        return expose(tape.scene, tape.codes[j % n], float(hours[j]))
-
-    with ThreadPoolExecutor(max_workers=FILM_EXPOSERS, thread_name_prefix="film") as pool:
-        pending = deque(pool.submit(job, j) for j in range(min(FILM_AHEAD, len(hours))))
-        nxt = len(pending)
-        while pending:
-            frame = pending.popleft().result()
-            if nxt < len(hours):
-                pending.append(pool.submit(job, nxt))
-                nxt += 1
-            yield frame
 
 
 #: The preview's shrinking: Lanczos, from a picture first halved by 2 × 2 box averages wherever it is
@@ -274,7 +204,7 @@ PREVIEW_SUFFIXES = (".gif", ".webp")
 
 def _check_film(path_mp4, path_preview, from_hours: float, to_hours: float, cycles: int, fps: int,
                 preview_width: int = PREVIEW_WIDTH) -> tuple[Path, Path | None]:
-    """Every check of :func:`write_film`'s arguments, made before any work; the checked paths."""
+    """Every check of :func:`sunset.pipeline.film.write_film`'s arguments, made before any work; the checked paths."""
     from ..io import check_writable
 
     require_hours("from_hours", real_number("from_hours", from_hours))
@@ -338,59 +268,13 @@ def _check_encoded(tmp, path_mp4, total: int) -> None:
 
 
 @all_or_nothing()
-def write_film(tape: Tape, path_mp4: str | os.PathLike, path_preview: str | os.PathLike | None = None,
-               from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, cycles: int = FILM_CYCLES,
-               fps: int = FILM_FPS, progress: bool = True, preview_width: int = PREVIEW_WIDTH) -> list[Path]:
-    """Film a tape: replay its cycle ``cycles`` times while the sun moves; MP4 and preview.
-
-    Parameters
-    ----------
-    tape : Tape
-        One wave cycle of codes (from :func:`render_cycle`).
-    path_mp4 : path
-        The film: H.264 in MP4, yuv420p, ``fps`` frames per second (an odd
-        picture size is padded by one row or column to make it even),
-        converted to and tagged BT.709, its index first (+faststart), with
-        :func:`sunset.provenance.provenance` as its ``comment``.
-    path_preview : path, optional
-        A small looping preview, WebP if the name ends in ``.webp`` and GIF
-        otherwise: every k-th film frame (at most
-        :data:`PREVIEW_FRAMES`), ``preview_width`` pixels wide. A WebP is
-        RGB: every frame is a key frame (WebP's animation encoder otherwise
-        stores the changes between frames with an alpha channel), on an
-        opaque background. It records the provenance too: a WebP in its
-        EXIF (``Software``, and the versions as ``ImageDescription``,
-        :func:`preview_exif`), a GIF as its comment.
-    from_hours, to_hours : float
-        Hours before sunset at the first and the last film frame.
-    cycles : int
-        How many times the cycle is replayed.
-    fps : int
-        Frames per second.
-    progress : bool
-        Show a progress bar on stderr.
-
-    Returns
-    -------
-    list of Path
-        The files written. Both are written atomically and land together:
-        if the preview fails, the film is not written either.
-    """
-    path_mp4, path_preview = _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps, preview_width)
-    cam = tape.scene.camera
-    frames = _frames_ahead(tape, from_hours, to_hours, cycles)
-    return write_video(frames, cycles * len(tape), (cam.width, cam.height), path_mp4, path_preview, fps=fps,
-                       progress=progress, preview_width=preview_width)
-
-
-@all_or_nothing()
 def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.PathLike,
                 path_preview: str | os.PathLike | None = None, fps: int = FILM_FPS, progress: bool = True,
                 preview_width: int = PREVIEW_WIDTH) -> list[Path]:
     """Encode ``total`` sRGB frames (H, W, 3) uint8 of ``size`` = (W, H) as an MP4 and an optional looping preview.
 
-    The encoder behind :func:`write_film`, and behind the RGB back end's film
-    (``sunset film --shading rgb``); see :func:`write_film` for the formats.
+    The encoder behind :func:`sunset.pipeline.film.write_film`, and behind the RGB back end's film
+    (``sunset film --shading rgb``); see :func:`~sunset.pipeline.film.write_film` for the formats.
     Both files are written atomically and land together (or neither does).
     """
     from concurrent.futures import ThreadPoolExecutor
@@ -436,35 +320,4 @@ def write_video(frames, total: int, size: tuple[int, int], path_mp4: str | os.Pa
                             duration=round(1000 * step / fps), optimize=False, comment=provenance_json())
         write_bytes(path_preview, buf.getvalue())
         written.append(Path(path_preview))
-    return written
-
-
-def make_film(scene: SceneLike, path_mp4: str | os.PathLike, path_preview: str | os.PathLike | None = None,
-              frames: int = 32,
-              from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, reflections: int = 2,
-              seed: int = 0, fps: int = FILM_FPS, tape_path: str | os.PathLike | None = None,
-              progress: bool = True, cycles: int = FILM_CYCLES, workers: int | None = None) -> list[Path]:
-    """Render one cycle to a tape (optionally saved), then film it: what ``sunset film`` runs.
-
-    ``scene`` may be a :class:`~sunset.Scene`, a packaged scene's name or a
-    scene file. Returns the files written (MP4, then the preview and the tape
-    if asked).
-    """
-    from ..io import all_or_nothing, check_distinct, check_writable
-    from ..model.scene import as_scene
-
-    scene = as_scene(scene)
-    _check_film(path_mp4, path_preview, from_hours, to_hours, cycles, fps)
-    require_bool("progress", progress)
-    if tape_path is not None:
-        check_writable(tape_path)
-    check_distinct({"the film": path_mp4, "the preview": path_preview, "the tape": tape_path})
-    require_int_range("frames", frames, 1, MAX_CYCLE_FRAMES)
-    tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress,
-                        workers=workers)
-    with all_or_nothing():                   # the film, its preview and the tape land together, or none
-        written = write_film(tape, path_mp4, path_preview, from_hours=from_hours, to_hours=to_hours,
-                             cycles=cycles, fps=fps, progress=progress)
-        if tape_path is not None:
-            written.append(write_tape(tape_path, tape))
     return written

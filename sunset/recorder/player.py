@@ -53,33 +53,32 @@ is exposed in (1 − w)·table + w·sun, mixed in linear light and encoded back.
 from __future__ import annotations
 
 import base64
-import io
 import json
 import math
-import os
 import re
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 
-from ..constants import FILM_FPS, FILM_FROM_HOURS, FILM_TO_HOURS, MAX_CYCLE_FRAMES, SUN_SUPERSAMPLE
-from ..errors import (SunsetError, real_array, real_number, require_bool, require_instance,
-                      require_int_range, require_size, shown)
+from ..constants import FILM_FPS, SUN_SUPERSAMPLE
+from ..errors import SunsetError, real_array, real_number, require_bool, require_instance, require_int_range, shown
 from ..escape import html_text, script_json
 from ..model.eye import DECODE_LUT, srgb_encode, to_uint8
 from ..model.scene import as_scene
 from ..model.sun import require_hours
-from ..tape.codes import CODE_MAP, cloud_code_depths, code_map, island_code_rho, sky_code_z, sun_plane_angle, track_code_elevations
+from ..tape.codemap import (CODE_MAP, cloud_code_depths, code_map, island_code_rho, sky_code_z, sun_plane_angle,
+                             track_code_elevations)
 from .colour_tables import sun_colour, tables
 from .playerdoc import check_data, compose, data_tables, decode_codes
 from .dicomed import sun_coverage
-from .film import FILM_CYCLES, _bar, cycle_times, render_cycle
+from .film import FILM_CYCLES
 
 __all__ = ["PLAYER_FRAMES", "PLAYER_LONG_SIDE", "PLAYER_MAX_BYTES", "PLAYER_HOURS_STEP", "PLAYER_FORMAT", "HTML_SUFFIXES",
            "hours_grid", "player_size", "encode_thresholds", "quantise", "sun_geometry", "code_meanings",
-           "player_data", "player_fragment", "player_html", "read_player_data", "decode_codes", "data_tables",
-           "nearest_hour", "compose", "write_player"]
+           "player_fragment", "player_html", "read_player_data", "decode_codes", "data_tables", "nearest_hour",
+           "compose"]
+#: (hour_row, check_player_data and player_document are the pipeline's pieces of sunset.pipeline.film.player_data,
+#: which checks their arguments: not in __all__.)
 
 #: Frames of the wave cycle in the player (as in the film of ``make figures``).
 PLAYER_FRAMES = 32
@@ -210,12 +209,12 @@ GROUP_LABELS = {"hill": "green island hill", "cliff": "brown island cliff", "bea
 def code_meanings(sun, cmap=CODE_MAP, clouds=None) -> list[str]:
     """For each of the 256 codes, what its number says about the pixel (one line each).
 
-    ``cmap`` is the scene's code map (:func:`~sunset.tape.codes.code_map`) and
+    ``cmap`` is the scene's code map (:func:`~sunset.tape.codemap.code_map`) and
     ``clouds`` its cloud layer, if any.
     """
     from ..model.clouds import Clouds
     from ..model.sun import Sun
-    from ..tape.codes import CodeMap
+    from ..tape.codemap import CodeMap
 
     require_instance("sun", sun, Sun)
     require_instance("cmap", cmap, CodeMap)
@@ -265,73 +264,30 @@ def _png(codes: np.ndarray) -> bytes:
     return png_bytes(codes)
 
 
-def _hour_task(args) -> tuple[np.ndarray, dict | None]:
-    scene, hours = args
+def hour_row(scene, hours: float) -> tuple[np.ndarray, dict | None]:
+    """One grid hour of the player: the colour tables (3, 256) and the sun's geometry (:func:`sun_geometry`)."""
     return tables(scene.sun, hours, scene.clouds), sun_geometry(scene, hours)
 
 
-def _hour_rows(scene, grid, workers: int | None, on_hour):
-    """(tables, sun geometry) of every grid hour, in order, over ``workers`` processes.
-
-    The hours are independent and each is computed by the same deterministic
-    code as in one process, so the result is the same whatever ``workers``.
-    """
-    import multiprocessing
-    import sys
-    from concurrent.futures import ProcessPoolExecutor
-
-    from ..tape.cycle import frame_workers
-
-    tasks = [(scene, float(h)) for h in grid]
-    n = frame_workers(workers, len(tasks))
-    if n <= 1:
-        for task in tasks:
-            yield _hour_task(task)
-            on_hour()
-        return
-    methods = multiprocessing.get_all_start_methods()    # as sunset.tape.cycle.code_frames chooses
-    method = "fork" if "fork" in methods and sys.version_info < (3, 12) else (
-        "forkserver" if "forkserver" in methods else "spawn")
-    with ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method)) as pool:
-        for row in pool.map(_hour_task, tasks):
-            yield row
-            on_hour()
-
-
-def player_data(tape, grid, start_hours: float | None = None, progress: bool = False,
-                workers: int | None = None) -> dict:
-    """Everything the player needs, as one JSON-ready dict (see the module's docstring).
-
-    Parameters
-    ----------
-    tape : Tape
-        One wave cycle of codes (:func:`~sunset.recorder.film.render_cycle`).
-    grid : array_like (M,)
-        Hours before sunset of the tables (:func:`hours_grid`).
-    start_hours : float, optional
-        The hour the player opens at (the grid hour nearest it); default the first.
-    progress : bool
-        Show a progress bar on stderr while the tables are computed.
-    workers : int, optional
-        Processes computing the tables; default as for the frames
-        (:func:`~sunset.tape.cycle.frame_workers`). The data does not depend on it.
-    """
-    from ..provenance import provenance
-
+def check_player_data(tape, grid, start_hours: float | None, progress: bool) -> tuple[np.ndarray, float]:
+    """Every check of :func:`sunset.pipeline.film.player_data`'s arguments: (the grid's hours, the start hour)."""
     from ..tape.tapefile import Tape
 
     require_instance("tape", tape, Tape)
     require_bool("progress", progress)
-    scene = tape.scene
     grid = _grid(grid)
     start = float(grid[0]) if start_hours is None else real_number("start_hours", start_hours)
+    return grid, start
+
+
+def player_document(tape, grid, start: float, tabs, suns) -> dict:
+    """The player's data document (see the module's docstring) from the tape, the grid, the start hour, and each
+    grid hour's tables and sun (:func:`hour_row`)."""
+    from ..provenance import provenance
+
+    scene = tape.scene
     sun = scene.sun
     cmap = code_map(scene)
-    tabs, suns = [], []
-    with _bar(grid.size, "colour tables", progress) as bar:
-        for tab, sun_row in _hour_rows(scene, grid, workers, lambda: bar.update(1)):
-            tabs.append(tab)
-            suns.append(sun_row)
     period = scene.sea.period
     return {
         "format": PLAYER_FORMAT,
@@ -411,49 +367,3 @@ def read_player_data(text: str) -> dict:
 
 
 # --------------------------------------------------------------------------- the file
-def write_player(scene, path: str | os.PathLike, frames: int = PLAYER_FRAMES, size: tuple[int, int] | None = None,
-                 from_hours: float = FILM_FROM_HOURS, to_hours: float = FILM_TO_HOURS, reflections: int = 2,
-                 seed: int = 0, progress: bool = True) -> Path:
-    """Render one wave cycle and write the player as one self-contained HTML file (``sunset player``).
-
-    Every argument is checked before any work; the file is written
-    atomically, so an error or an interrupt leaves no partial file.
-
-    Parameters
-    ----------
-    scene : Scene
-    path : path
-        Output file, ``.html`` or ``.htm``.
-    frames : int
-        N, frames of the wave cycle.
-    size : (int, int), optional
-        (width, height) in pixels; default the scene's picture with its longer
-        side :data:`PLAYER_LONG_SIDE`.
-    from_hours, to_hours : float
-        The range of the hours slider (hours before sunset).
-    reflections, seed : int
-        As for :func:`~sunset.recorder.film.render_cycle`.
-    progress : bool
-        Progress bars on stderr.
-
-    Returns
-    -------
-    Path
-    """
-    from ..io import check_writable, write_bytes
-
-    path = check_writable(path, HTML_SUFFIXES)
-    scene = as_scene(scene)
-    require_bool("progress", progress)
-    require_int_range("frames", frames, 1, MAX_CYCLE_FRAMES)
-    require_int_range("reflections", reflections, 0, 2)
-    require_int_range("seed", seed, 0, 2**32 - 1)
-    grid = hours_grid(from_hours, to_hours)
-    require_hours("from_hours", from_hours)
-    require_hours("to_hours", to_hours)
-    cycle_times(scene, frames)                       # a sea that never repeats fails here, before the work
-    scene = scene.with_size(*(player_size(scene) if size is None else require_size("size", size)))
-    tape = render_cycle(scene, frames, reflections=reflections, seed=seed, progress=progress)
-    data = player_data(tape, grid, progress=progress)
-    write_bytes(path, player_html(data).encode("utf-8"))
-    return path

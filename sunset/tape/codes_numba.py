@@ -1,4 +1,4 @@
-"""Numba twins of :func:`sunset.tape.codes.encode_rows` and :func:`sunset.tape.still.encode_sea_rows`: the codes in
+"""Numba twins of :func:`sunset.tape.codes.encode_rows` and :func:`sunset.tape.codes.encode_sea_rows`: the codes in
 one pass over the pixels.
 
 The rules of :func:`sunset.tape.codes.encode_pixels`, pixel by pixel, with
@@ -43,17 +43,67 @@ def _dither_fill(seed, start, which, out):
 
 
 @_jit
+def island_code(n0, n1, n2, p, uu, U, V, part_codes, island_start, island_size):
+    """An island pixel's code from its (float64) normal, its part ``p`` and its dither ``uu``; −1 for an unknown part.
+
+    ρ̂(N) (:func:`sunset.tape.codemap.rho_hat`) and the island offset (:func:`sunset.tape.codemap.island_offsets`).
+    """
+    a = n0 * U[0] + n1 * U[1] + n2 * U[2]
+    b = n0 * V[0] + n1 * V[1] + n2 * V[2]
+    r = math.hypot(a, b)
+    rho = -a / r if r > 1e-12 else 1.0
+    if rho < -1.0:
+        rho = -1.0
+    elif rho > 1.0:
+        rho = 1.0
+    rh = rho if b > 0 else 2.0 - rho
+    if rh >= 3.0:
+        rh = rh - 4.0
+    j = -1
+    for i in range(part_codes.shape[0]):
+        if part_codes[i] == p:
+            j = i
+    if j < 0:
+        return np.int64(-1)
+    size = island_size[j]
+    off = np.int64(np.floor((rh + 1.0) * (size / 4.0) + uu)) % size
+    return island_start[j] + off
+
+
+@_jit
+def sky_code(x, y, z, bounced, seed, n, uu, W, sky_start, sky_size, track_start, track_size, halo_start, halo_size,
+             dither, sin_d, sin_halo, e_max):
+    """The code of pixel ``n`` whose (float64) final ray (x, y, z) reaches the sky: by its z, and, for a reflected
+    ray (``bounced``), the sun's track or its halo when |W·R| is small (the rules of
+    :func:`sunset.tape.codes.encode_pixels`)."""
+    zc = min(max(z, 0.0), 1.0)
+    k = np.int64(np.floor(math.sqrt(zc) * sky_size + uu))
+    code = sky_start + min(max(k, 0), sky_size - 1)
+    if bounced:
+        vv = _dither_at(seed, n, 1)
+        dot = x * W[0] + y * W[1] + z * W[2]
+        wr = abs(dot) + (vv - 0.5) * dither
+        if wr < sin_d:
+            k = np.int64(np.floor(math.asin(zc) * (track_size / e_max) + uu))
+            code = track_start + min(max(k, 0), track_size - 1)
+        elif wr < sin_halo:
+            k = np.int64(np.floor(math.asin(zc) * (halo_size / e_max) + uu))
+            code = halo_start + min(max(k, 0), halo_size - 1)
+    return code
+
+
+@_jit
 def _encode_pixels(codes, surf, part, normal, ray, bounces, seed, first, cycle, still, surface, U, V, W,
-                   part_codes, island_start, island_size, sky_start, sky_size, track_start, track_size, halo_start, halo_size,
-                   dither, sin_d, sin_halo, e_max):
+                   part_codes, island_start, island_size, sky_start, sky_size, track_start, track_size, halo_start,
+                   halo_size, dither, sin_d, sin_halo, e_max):
     """The codes of :func:`sunset.tape.codes.encode_pixels`, pixel by pixel; (whether an island part was unknown, the
     first such part, the pixels left to the caller: posts and clouds).
 
     The dither of pixel (y, x) is that of the frame's pixel ``first`` + y·W + x
     (:func:`_dither_at` of ``seed``). With ``cycle``: a cycle's frame
-    (:func:`sunset.tape.still.encode_sea_rows`), whose pixels off the sea
+    (:func:`sunset.tape.codes.encode_sea_rows`), whose pixels off the sea
     (``surface``) take the ``still`` codes and whose final fields are read on
-    the sea alone.
+    the sea alone. Each pixel by :func:`island_code` or :func:`sky_code`.
     """
     H, Wd = surf.shape
     others = 0
@@ -66,47 +116,16 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, seed, first, cycle, 
             uu = _dither_at(seed, n, 0)
             s = surf[y, x]
             if s >= 1:
-                # ρ̂(N) (sunset.tape.codes.rho_hat) and the island offset (sunset.tape.codes.island_offsets)
-                n0 = np.float64(normal[y, x, 0])
-                n1 = np.float64(normal[y, x, 1])
-                n2 = np.float64(normal[y, x, 2])
-                a = n0 * U[0] + n1 * U[1] + n2 * U[2]
-                b = n0 * V[0] + n1 * V[1] + n2 * V[2]
-                r = math.hypot(a, b)
-                rho = -a / r if r > 1e-12 else 1.0
-                if rho < -1.0:
-                    rho = -1.0
-                elif rho > 1.0:
-                    rho = 1.0
-                rh = rho if b > 0 else 2.0 - rho
-                if rh >= 3.0:
-                    rh = rh - 4.0
                 p = part[y, x]
-                j = -1
-                for i in range(part_codes.shape[0]):
-                    if part_codes[i] == p:
-                        j = i
-                if j < 0:
+                code = island_code(np.float64(normal[y, x, 0]), np.float64(normal[y, x, 1]),
+                                   np.float64(normal[y, x, 2]), p, uu, U, V, part_codes, island_start, island_size)
+                if code < 0:
                     return True, p, others
-                size = island_size[j]
-                off = np.int64(np.floor((rh + 1.0) * (size / 4.0) + uu)) % size
-                codes[y, x] = island_start[j] + off
-            elif s == -1:
-                z = np.float64(ray[y, x, 2])
-                zc = min(max(z, 0.0), 1.0)
-                k = np.int64(np.floor(math.sqrt(zc) * sky_size + uu))
-                code = sky_start + min(max(k, 0), sky_size - 1)
-                if bounces[y, x] > 0:
-                    vv = _dither_at(seed, n, 1)
-                    dot = np.float64(ray[y, x, 0]) * W[0] + np.float64(ray[y, x, 1]) * W[1] + z * W[2]
-                    wr = abs(dot) + (vv - 0.5) * dither
-                    if wr < sin_d:
-                        k = np.int64(np.floor(math.asin(zc) * (track_size / e_max) + uu))
-                        code = track_start + min(max(k, 0), track_size - 1)
-                    elif wr < sin_halo:
-                        k = np.int64(np.floor(math.asin(zc) * (halo_size / e_max) + uu))
-                        code = halo_start + min(max(k, 0), halo_size - 1)
                 codes[y, x] = code
+            elif s == -1:
+                codes[y, x] = sky_code(np.float64(ray[y, x, 0]), np.float64(ray[y, x, 1]), np.float64(ray[y, x, 2]),
+                                       bounces[y, x] > 0, seed, n, uu, W, sky_start, sky_size, track_start,
+                                       track_size, halo_start, halo_size, dither, sin_d, sin_halo, e_max)
             else:
                 others += 1
     return False, 0, others
@@ -116,7 +135,7 @@ _NO_STILL = np.zeros((1, 1), np.uint8), np.zeros((1, 1), np.int8)
 
 
 @functools.lru_cache(maxsize=64)
-def _constants(sun, cmap) -> tuple:
+def code_constants(sun, cmap) -> tuple:
     """The arguments of :func:`_encode_pixels` that come from the sun and the code map (the same every strip)."""
     part_ids = (PART_HILL, PART_CLIFF, PART_BEACH)
     ranges = [cmap.for_part(p) for p in part_ids]
@@ -137,7 +156,7 @@ def _encode(codes, frame, seed: int, r0: int, sun, cmap, still=None):
         codes, np.ascontiguousarray(frame.final_surface), np.ascontiguousarray(frame.final_part),
         np.ascontiguousarray(frame.final_normal), np.ascontiguousarray(frame.ray),
         np.ascontiguousarray(frame.bounces), int(seed), int(r0) * codes.shape[1], still is not None,
-        *[np.ascontiguousarray(a) for a in (still or _NO_STILL)], *_constants(sun, cmap))
+        *[np.ascontiguousarray(a) for a in (still or _NO_STILL)], *code_constants(sun, cmap))
     if failed:
         raise SunsetError(f"frame.final_part must be 1 (beach), 2 (cliff) or 3 (hill) on islands, got {bad}")
     return int(others)
@@ -153,6 +172,6 @@ def encode_rows(codes, frame, seed: int, r0: int, sun, cmap):
 
 
 def encode_sea_rows(codes, frame, still, seed: int, r0: int, sun, cmap) -> None:
-    """:func:`sunset.tape.still.encode_sea_rows` in the compiled pass of :func:`encode_rows`: the still codes off the
+    """:func:`sunset.tape.codes.encode_sea_rows` in the compiled pass of :func:`encode_rows`: the still codes off the
     sea, the sea pixels' final fields coded (read on the sea pixels alone)."""
     _encode(codes, frame, seed, r0, sun, cmap, still=(still, frame.surface))

@@ -67,7 +67,7 @@ class Tape:
     reflections : int
         Reflection mode the frames were rendered with (0, 1 or 2).
     seed : int
-        Dither seed of :func:`sunset.tape.codes.encode`.
+        Dither seed of the codes (:func:`sunset.tape.codes.dither`).
     version : str
         The sunset version that made the tape.
     provenance : dict

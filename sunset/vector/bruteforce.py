@@ -221,7 +221,7 @@ def trace_direct_bruteforce(scene, t: float = 0.0, *, sea_step: float | None = N
     Returns
     -------
     Frame
-        The same direct fields as :func:`sunset.vector.direct.trace_direct`;
+        The same direct fields as :func:`sunset.pipeline.frame.trace_direct`;
         the hit point is exactly on the surface (to the bisection's float64
         precision).
     """

@@ -63,7 +63,7 @@ from ..constants import (CLOUD_BYTES_PER_PAIR, CLOUD_BYTES_PER_SAMPLE, FRAME_BYT
                          INTERPRETER_BYTES, ISLAND_SAMPLE_BUDGET, MAX_FRAME_BYTES, MAX_FRAME_SAMPLES,
                          MAX_SEA_SAMPLES_PER_PIXEL, SCANLINE_CHUNK_ELEMENTS, STRIP_PIXELS)
 from ..errors import SunsetError
-from .heightfield import sampling
+from .heightfield import Sampling, sampling
 
 __all__ = ["Work", "predict_work", "check_work", "SAMPLE_BYTES", "ISLAND_STRIP_BYTES", "ROW_STRIP_BYTES"]
 
@@ -102,6 +102,9 @@ class Work:
         pixels × FRAME_BYTES_PER_PIXEL + a strip per thread + the largest strip of a cloud cell.
     threads : int
         The threads the prediction counts, each with a strip in flight.
+    sampling : Sampling
+        Where the sea is sampled along every scan line (:func:`sunset.vector.heightfield.sampling`): the
+        renderer's lattice, computed once here and passed down by the pipeline (:mod:`sunset.pipeline.budget`).
     """
 
     width: int
@@ -114,6 +117,7 @@ class Work:
     cloud_pairs_bound: int = 0
     post_tests_bound: int = 0
     threads: int = 1
+    sampling: Sampling | None = None
 
     @property
     def total_bytes(self) -> int:
@@ -153,10 +157,13 @@ def _cloud_work(scene) -> tuple[int, int, int]:
     return samples, pairs, biggest
 
 
-def strip_bytes(scene) -> int:
-    """The most one thread holds at once of a frame of ``scene``: a strip of sea samples, of island samples, of rows."""
+def strip_bytes(scene, samp: Sampling | None = None) -> int:
+    """The most one thread holds at once of a frame of ``scene``: a strip of sea samples, of island samples, of rows.
+
+    ``samp``: the scene's sampling, when it is already there.
+    """
     cam = scene.camera
-    n = sampling(cam, scene.sea.max_elevation).n
+    n = (samp or sampling(cam, scene.sea.max_elevation)).n
     budget = ISLAND_SAMPLE_BUDGET * max(n, cam.height)
     sea = max(SCANLINE_CHUNK_ELEMENTS, n) * SAMPLE_BYTES
     islands = max(SCANLINE_CHUNK_ELEMENTS, budget) * ISLAND_STRIP_BYTES if scene.islands else 0
@@ -172,14 +179,15 @@ def predict_work(scene, threads: int | None = None) -> Work:
 
     cam = scene.camera
     W, H = cam.width, cam.height
-    n = sampling(cam, scene.sea.max_elevation).n
+    samp = sampling(cam, scene.sea.max_elevation)
+    n = samp.n
     islands = len(scene.islands) * 2 * ISLAND_SAMPLE_BUDGET * max(n, H) * W
     threads = min(int(current_threads() if threads is None else threads), W)
     cloud_samples, cloud_pairs, cloud_bytes = _cloud_work(scene)
-    memory = FRAME_FIXED_BYTES + W * H * FRAME_BYTES_PER_PIXEL + threads * strip_bytes(scene) + cloud_bytes
+    memory = FRAME_FIXED_BYTES + W * H * FRAME_BYTES_PER_PIXEL + threads * strip_bytes(scene, samp) + cloud_bytes
     return Work(width=W, height=H, sea_samples_per_line=n, sea_samples=n * W, island_samples_bound=islands,
                 bytes=memory, cloud_samples=cloud_samples, cloud_pairs_bound=cloud_pairs,
-                post_tests_bound=2 * len(scene.posts) * W * H, threads=threads)
+                post_tests_bound=2 * len(scene.posts) * W * H, threads=threads, sampling=samp)
 
 
 def check_work(scene) -> Work:

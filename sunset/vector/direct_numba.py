@@ -123,8 +123,8 @@ def assemble_geometry(best_u, best_surf, s_all, zeta, n_islands: int, out):
     return assemble(best_u, best_surf, s_all, zeta, SKY, SEA, n_islands, out)
 
 
-def _island_constants(island):
-    """The island's constants for :func:`_island_normals`, float32.
+def island_constants(island):
+    """The island's constants for :func:`island_surface32`, float32.
 
     (X, Y, cliff height, 2e, e, f, g, 2g, cliff top, hill factor, beach
     height, e, f, g, 2e, 2g) and one row (ℓ, m, φ, a) per cosine term.
@@ -138,41 +138,51 @@ def _island_constants(island):
 
 
 @_jit
-def _island_normals(c, terms, normal, part, idx, s, y, part_beach, part_cliff, part_hill):
+def island_surface32(c, terms, x, yy, part_beach, part_cliff, part_hill):
+    """An island's part and unit normal at (x, yy), float32: (part, n_x, n_y, n_z).
+
+    :meth:`sunset.model.islands.Island.surface` and :func:`sunset.model.waves.unit_normal`
+    in float32 with our own sine and cosine; ``c`` and ``terms`` are :func:`island_constants`'.
+    """
     one = np.float32(1.0)
+    dx = x - c[0]
+    dy = yy - c[1]
+    q = c[2] - (c[4] * dx * dx + c[5] * dx * dy + c[6] * dy * dy)
+    qx = -(c[3] * dx + c[5] * dy)
+    qy = -(c[5] * dx + c[7] * dy)
+    for k in range(terms.shape[0]):
+        ph = terms[k, 0] * x + terms[k, 1] * yy + terms[k, 2]
+        q = q + terms[k, 3] * cos32(ph)
+        sn = terms[k, 3] * sin32(ph)
+        qx = qx - terms[k, 0] * sn
+        qy = qy - terms[k, 1] * sn
+    ct, phi = c[8], c[9]
+    hill = q > ct
+    upper = ct + phi * (q - ct) if hill else q
+    beach = c[10] - (c[11] * dx * dx + c[12] * dx * dy + c[13] * dy * dy)
+    if beach >= upper:
+        p = part_beach
+        gx = -(c[14] * dx + c[12] * dy)
+        gy = -(c[12] * dx + c[15] * dy)
+    else:
+        p = part_hill if hill else part_cliff
+        scale = phi if hill else one
+        gx = scale * qx
+        gy = scale * qy
+    zb = one / np.sqrt(gx * gx + gy * gy + one)
+    return p, -zb * gx, -zb * gy, zb
+
+
+@_jit
+def _island_normals(c, terms, normal, part, idx, s, y, part_beach, part_cliff, part_hill):
     for j in range(idx.shape[0]):
-        x = np.float32(s[j] * y[j])
-        yy = np.float32(y[j])
-        dx = x - c[0]
-        dy = yy - c[1]
-        q = c[2] - (c[4] * dx * dx + c[5] * dx * dy + c[6] * dy * dy)
-        qx = -(c[3] * dx + c[5] * dy)
-        qy = -(c[5] * dx + c[7] * dy)
-        for k in range(terms.shape[0]):
-            ph = terms[k, 0] * x + terms[k, 1] * yy + terms[k, 2]
-            q = q + terms[k, 3] * cos32(ph)
-            sn = terms[k, 3] * sin32(ph)
-            qx = qx - terms[k, 0] * sn
-            qy = qy - terms[k, 1] * sn
-        ct, phi = c[8], c[9]
-        hill = q > ct
-        upper = ct + phi * (q - ct) if hill else q
-        beach = c[10] - (c[11] * dx * dx + c[12] * dx * dy + c[13] * dy * dy)
-        if beach >= upper:
-            p = part_beach
-            gx = -(c[14] * dx + c[12] * dy)
-            gy = -(c[12] * dx + c[15] * dy)
-        else:
-            p = part_hill if hill else part_cliff
-            scale = phi if hill else one
-            gx = scale * qx
-            gy = scale * qy
-        zb = one / np.sqrt(gx * gx + gy * gy + one)
+        p, n0, n1, n2 = island_surface32(c, terms, np.float32(s[j] * y[j]), np.float32(y[j]), part_beach, part_cliff,
+                                         part_hill)
         at = idx[j]
         part[at] = p
-        normal[at, 0] = -zb * gx
-        normal[at, 1] = -zb * gy
-        normal[at, 2] = zb
+        normal[at, 0] = n0
+        normal[at, 1] = n1
+        normal[at, 2] = n2
 
 
 def put_island_normals(island, normal, part, idx, s, y) -> None:
@@ -182,7 +192,7 @@ def put_island_normals(island, normal, part, idx, s, y) -> None:
     (with the cosines and sines of :mod:`sunset.vector.sincos_numba`) and of
     :func:`sunset.model.waves.unit_normal`, pixel by pixel.
     """
-    c, terms = _island_constants(island)
+    c, terms = island_constants(island)
     _island_normals(c, terms, normal.reshape(-1, 3), part.reshape(-1), idx, s, y, PART_BEACH, PART_CLIFF, PART_HILL)
 
 

@@ -19,7 +19,6 @@ import numpy as np
 
 from ..constants import SEA, SKY
 from ..errors import SunsetError, real_number, require_int_range, require_time, shown
-from ..kernels import row_strips, run_strips
 
 
 #: Each array of a frame: its shape after (H, W) and the kinds of its dtype (float, integer).
@@ -133,18 +132,25 @@ class Frame:
                 f"{sky:.0f}% sky, {sea:.0f}% sea, {100.0 - sky - sea:.0f}% islands)")
 
     def finish_direct(self, sea_bounces: bool = True, *, sea_rows: bool = True) -> "Frame":
-        """Fill the final-ray fields as if no ray reflected (direct rays only).
+        """Fill the final-ray fields as if no ray reflected (direct rays only): :meth:`allocate_final`, then
+        :meth:`finish_rows` over all rows.
 
         Sky and island pixels end where the direct ray ends; sea pixels keep
-        ``final_surface`` = 0 until :mod:`sunset.vector.pierce` traces them.
-        The copies are made strip by strip on all threads. ``sea_bounces``:
-        also make ``incidence`` and ``sea_rays`` (NaN until the sea's rays
-        are traced), which the RGB back end reads and the 8-bit codes do not
-        (32 bytes a pixel). ``sea_rows=False``: leave ``ray`` and
-        ``final_normal`` unset in the rows that are all sea, for
-        :func:`sunset.vector.reflect.trace_reflections`, which writes them
-        in every sea pixel (24 bytes a pixel not copied there).
+        ``final_surface`` = 0 until :mod:`sunset.vector.reflect` traces them.
+        ``sea_bounces``: also make ``incidence`` and ``sea_rays`` (NaN until
+        the sea's rays are traced), which the RGB back end reads and the
+        8-bit codes do not (32 bytes a pixel). ``sea_rows=False``: leave
+        ``ray`` and ``final_normal`` unset in the rows that are all sea, for
+        :func:`sunset.vector.reflect.trace_sea_rays`, which writes them in
+        every sea pixel (24 bytes a pixel not copied there). The pipeline
+        does the same strip by strip on its threads.
         """
+        self.allocate_final(sea_bounces)
+        self.finish_rows(0, self.shape[0], sea_rows=sea_rows)
+        return self
+
+    def allocate_final(self, sea_bounces: bool = True) -> "Frame":
+        """Make the final-ray fields (unset; :meth:`finish_rows` fills them), with the sea's bounces if asked."""
         self.bounces = np.empty(self.shape, np.uint8)
         self.ray = np.empty_like(self.direction)
         self.final_surface = np.empty_like(self.surface)
@@ -153,28 +159,27 @@ class Frame:
         if sea_bounces:
             self.incidence = np.empty(self.shape + (2,), np.float32)
             self.sea_rays = np.empty(self.shape + (2, 3), np.float32)
+        return self
 
-        def copy(r0: int, r1: int) -> None:
-            self.bounces[r0:r1] = 0
-            self.final_surface[r0:r1] = self.surface[r0:r1]
-            self.final_part[r0:r1] = self.part[r0:r1]
-            if sea_rows:
+    def finish_rows(self, r0: int, r1: int, *, sea_rows: bool = True) -> None:
+        """The rows ``r0:r1`` of :meth:`finish_direct` (after :meth:`allocate_final`)."""
+        self.bounces[r0:r1] = 0
+        self.final_surface[r0:r1] = self.surface[r0:r1]
+        self.final_part[r0:r1] = self.part[r0:r1]
+        if sea_rows:
+            self.ray[r0:r1] = self.direction[r0:r1]
+            self.final_normal[r0:r1] = self.normal[r0:r1]
+        else:
+            keep = r0 + np.flatnonzero(~np.all(self.surface[r0:r1] == SEA, axis=1))
+            if len(keep) == r1 - r0:
                 self.ray[r0:r1] = self.direction[r0:r1]
                 self.final_normal[r0:r1] = self.normal[r0:r1]
-            else:
-                keep = r0 + np.flatnonzero(~np.all(self.surface[r0:r1] == SEA, axis=1))
-                if len(keep) == r1 - r0:
-                    self.ray[r0:r1] = self.direction[r0:r1]
-                    self.final_normal[r0:r1] = self.normal[r0:r1]
-                elif len(keep):
-                    self.ray[keep] = self.direction[keep]
-                    self.final_normal[keep] = self.normal[keep]
-            if sea_bounces:
-                self.incidence[r0:r1] = np.nan
-                self.sea_rays[r0:r1] = np.nan
-
-        run_strips(copy, row_strips(*self.shape))
-        return self
+            elif len(keep):
+                self.ray[keep] = self.direction[keep]
+                self.final_normal[keep] = self.normal[keep]
+        if self.incidence is not None:
+            self.incidence[r0:r1] = np.nan
+            self.sea_rays[r0:r1] = np.nan
 
     def rows(self, r0: int, r1: int) -> "Frame":
         """The rows ``r0 … r1 − 1`` as a frame of views into this one (writing to it writes here)."""

@@ -207,7 +207,7 @@ def scan_merge(u, g, counts, zeta0: float, dzeta: float, n_pixels: int, best_u, 
 
     ``best_u`` (C, K) float64 and ``best_surf`` (C, K) int8 are updated in
     place (C-contiguous). With ``tail_u_far`` the sea's far tail of
-    :func:`sunset.vector.direct.trace_direct` is applied first (pixels below
+    :func:`sunset.pipeline.frame.trace_direct` is applied first (pixels below
     the horizon that no sample reached meet the plane at the farthest
     sample's height, whose 1/y is ``tail_u_far``). Returns the number of tail pixels.
     """

@@ -74,7 +74,7 @@ def island_scan(island, s, samp, d: float, h: float, m0: int, zeta0: float, dzet
 # The islands' whole pass on a strip of scan lines, compiled: the chords of the bounding ellipses, the probe
 # lattice, its profile, the adaptive cut of the probe intervals, the samples' profile, the scan line and the
 # depth buffer, one scan line at a time with the GIL released, so that the strips of
-# :func:`sunset.vector.direct.island_pass` run on all cores. The NumPy reference is
+# :func:`sunset.pipeline.frame.island_pass` run on all cores. The NumPy reference is
 # :func:`sunset.vector.island_samples.islands_scan`: float64 where it computes in float64, float32 where it
 # computes in float32, with our own float32 cosine (:mod:`sunset.vector.sincos_numba`).
 

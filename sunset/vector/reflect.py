@@ -1,12 +1,25 @@
-"""The reflected rays of a frame: every sea pixel's ray reflected, pierced and written back.
+"""The reflected rays, as a strip kernel: every sea pixel's ray of a strip of rows reflected, pierced and written back.
 
-:func:`trace_reflections` reflects the direct ray of every sea pixel off the
+:func:`trace_sea_rays` reflects the direct ray of every sea pixel off the
 wave normal (:func:`sunset.vector.pierce.reflect`), optionally a second time off
 the crest ahead (:mod:`sunset.vector.crests`), folds the ray up (R_z → |R_z|, the
 paper's rule for rays that would go under the sea) and pierces the islands'
 cosine-free paraboloids (:mod:`sunset.vector.pierce`); what it meets fills the
 frame's final fields. The per-ray work runs on compressed subsets
 (:func:`~sunset.vector.pierce.gather`, :func:`~sunset.vector.pierce.scatter`), as the Cray's gather/scatter would.
+The pipeline runs it over a frame's strips of rows (:func:`sunset.pipeline.frame.trace_reflections`).
+
+Reflection modes
+----------------
+0
+    Reflected rays go straight to the sky: no islands are pierced and no
+    secondary reflection is looked for (a diagnostic; the cheapest mode).
+1
+    One reflection from the waves, each reflected R_z replaced by |R_z|, then
+    the islands or the sky (Figure 5; Figure 4 is this mode on still water).
+2
+    Up to two reflections: secondary reflections off a parabolic cylinder
+    fitted to the crest ahead, gathered and scattered (Figure 6).
 """
 
 from __future__ import annotations
@@ -14,62 +27,17 @@ from __future__ import annotations
 import numpy as np
 
 from ..constants import SEA, SKY
-from ..errors import require_int_range
-from ..kernels import row_strips, run_strips, twin
+from ..kernels import twin
 from .crests import secondary_reflections
 from .frame import Frame
 from .pierce import gather, island_normal, pierce_islands, reflect, scatter
 
-__all__ = ["trace_reflections", "trace_sea_rays", "record_bounces"]
-
-
-def trace_reflections(scene, frame: Frame, reflections: int,
-                      sea_bounces: bool = True) -> Frame:
-    """Trace the reflected rays of the sea pixels and fill the frame's final fields.
-
-    Parameters
-    ----------
-    scene : Scene
-    frame : Frame
-        After :meth:`Frame.finish_direct` (called here if it was not).
-    reflections : {0, 1, 2}
-        0: R_z → |R_z|, straight to the sky. 1: one reflection, |R_z|, then the
-        islands or the sky (Figures 4, 5). 2: secondary reflections off the
-        crest cylinder, then |R_z|, then the islands or the sky (Figure 6).
-    sea_bounces : bool
-        Also record each sea bounce in ``incidence`` and ``sea_rays`` (for
-        the RGB back end); without them a frame needs 32 bytes a pixel less.
-
-    Returns
-    -------
-    Frame
-        The same frame, with ``reflections`` set and ``bounces``, ``ray``,
-        ``final_surface``, ``final_part`` and ``final_normal`` filled for sea
-        pixels (``final_normal`` is NaN where the ray ends in the sky).
-    """
-    require_int_range("reflections", reflections, 0, 2)
-    if frame.bounces is None:
-        # rows all of sea: their ray and final normal are written below
-        frame.finish_direct(sea_bounces, sea_rows=False)
-    if sea_bounces and frame.incidence is None:
-        frame.incidence = np.full(frame.shape + (2,), np.nan, np.float32)
-        frame.sea_rays = np.full(frame.shape + (2, 3), np.nan, np.float32)
-    frame.reflections = reflections
-
-    def rows(r0: int, r1: int) -> None:
-        part = frame.rows(r0, r1)
-        if np.any(part.surface == SEA):
-            trace_sea_rays(scene, part, reflections)
-
-    # every ray is traced on its own, so strips of rows go to the threads
-    # (sunset.kernels.run_strips)
-    run_strips(rows, row_strips(*frame.shape))
-    return frame
+__all__ = ["trace_sea_rays", "record_bounces"]
 
 
 @twin("sunset.vector.reflect_numba")
 def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
-    """The work of :func:`trace_reflections` on a frame with sea pixels: reflect, pierce, write back.
+    """The reflected rays of a strip of rows (``frame``) with sea pixels: reflect, pierce, write back.
 
     Gather and reflect the sea pixels' rays; with two reflections pierce the
     crest cylinders and reflect the hits again off the true wave normal;

@@ -295,17 +295,17 @@ def island_normals(islands, x, y, part, which) -> np.ndarray:
 
 
 @_jit
-def _finish_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, scratch, crest, amps, waves, coef,
-                  count, record, incidence, sea_rays_out, h2, flags, table, normals, terms, h, part_beach, part_cliff,
-                  part_hill, sky_code, best, which, part, f_bounces, f_ray, f_surface, f_part, f_normal):
-    """The rest of a block of sea rays: the crests, |R_z|, the islands, the frame's final fields.
+def bounce_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, scratch, crest, amps, waves, coef,
+                 count, record, incidence, sea_rays_out, h2, flags, table, h, part_beach, part_cliff, part_hill,
+                 sky_code, best, which, part):
+    """A block of sea rays, reflected once, to the end of their path: the crests, |R_z|, the islands.
 
     With ``second``, the crests' bounding tests (:func:`sunset.vector.crests_numba.crest_block`),
     then the candidates' cylinders are pierced and the hits reflected again
     off the true wave normal (recorded with ``record``); every ray's R_z is
-    folded up; :func:`_pierce_block` finds the islands; the final fields are
-    written at each ray's pixel, with the island's normal at the hit
-    (:func:`_island_normal` at Q + tR), NaN where the ray ends in the sky.
+    folded up; :func:`_pierce_block` finds the islands. Leaves each ray's
+    last point and direction in (q, r), its bounces, and its nearest island
+    hit in ``best``, ``which`` (``sky_code`` where none) and ``part``.
     """
     if second:
         crest_block(m, qx, qy, qz, rx, ry, rz, crest, amps, psi, keep, scratch)
@@ -340,6 +340,20 @@ def _finish_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi,
         part[j] = 0
     _pierce_block(m, qx, qy, qz, rx, ry, rz, h2, flags, table, h, part_beach, part_cliff, part_hill,
                   best, which, part)
+
+
+@_jit
+def _finish_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, scratch, crest, amps, waves, coef,
+                  count, record, incidence, sea_rays_out, h2, flags, table, normals, terms, h, part_beach, part_cliff,
+                  part_hill, sky_code, best, which, part, f_bounces, f_ray, f_surface, f_part, f_normal):
+    """The rest of a block of sea rays (:func:`bounce_block`), then the frame's final fields.
+
+    The final fields are written at each ray's pixel, with the island's normal at the hit
+    (:func:`_island_normal` at Q + tR), NaN where the ray ends in the sky.
+    """
+    bounce_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, scratch, crest, amps, waves, coef,
+                 count, record, incidence, sea_rays_out, h2, flags, table, h, part_beach, part_cliff, part_hill,
+                 sky_code, best, which, part)
     for j in range(m):
         yy, xx = ys[j], xs[j]
         f_bounces[yy, xx] = bounces[j]
@@ -429,6 +443,22 @@ def trace_strip(surface, point, direction, normal, sea_code, second, crest, amps
 _NO_RECORD = (np.zeros((1, 1, 2), np.float32), np.zeros((1, 1, 2, 3), np.float32))
 
 
+def reflect_constants(scene, t: float, reflections: int) -> tuple:
+    """What :func:`trace_strip` and :func:`bounce_block` need of the scene at ``t``: (second reflections?, their
+    constants, the islands' table, their normals' tables, the eye height)."""
+    h = float(scene.camera.eye_height)
+    second = second_bounce_constants(scene.sea, t) if reflections == 2 else None
+    if second is None:
+        second = (crest_constants_dummy(), np.zeros(1), np.zeros((0, 4)), np.zeros((0, 1)), np.zeros(0, np.int64))
+        do_second = False
+    else:
+        do_second = True
+    islands = scene.islands if reflections >= 1 else ()
+    table = island_table(islands, h)
+    normals, terms = normal_table(islands)
+    return do_second, second, table, normals, terms, h
+
+
 def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     """:func:`sunset.vector.reflect.trace_sea_rays` compiled, in one pass over the strip.
 
@@ -436,18 +466,9 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     |R_z|, the islands, their normals at the hits and the frame's final
     fields, block by block of rays.
     """
-    h = float(scene.camera.eye_height)
-    second = second_bounce_constants(scene.sea, frame.t) if reflections == 2 else None
-    if second is None:
-        second = (crest_constants_dummy(), np.zeros(1), np.zeros((0, 4)), np.zeros((0, 1)), np.zeros(0, np.int64))
-        do_second = False
-    else:
-        do_second = True
+    do_second, second, table, normals, terms, h = reflect_constants(scene, frame.t, reflections)
     record = frame.incidence is not None
     inc, rays = (frame.incidence, frame.sea_rays) if record else _NO_RECORD
-    islands = scene.islands if reflections >= 1 else ()
-    table = island_table(islands, h)
-    normals, terms = normal_table(islands)
     trace_strip(frame.surface, frame.point, frame.direction, frame.normal, SEA, do_second, *second, record, inc,
                 rays, table, normals, terms, h, PART_BEACH, PART_CLIFF, PART_HILL, SKY,
                 frame.bounces, frame.ray, frame.final_surface, frame.final_part, frame.final_normal)

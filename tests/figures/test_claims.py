@@ -21,8 +21,7 @@ from sunset.recorder.colour_tables import glitter_weights
 from sunset.errors import SunsetError
 from sunset.figures import claims
 from sunset.figures.paper import AFTERNOON_HOURS, SUNSET_HOURS
-from sunset.tape.cycle import code_frame
-from sunset.vector.render import render
+from sunset.pipeline.frame import code_frame, render
 from sunset.model.stokes import stokes_coefficients
 
 SCENE = Scene.default()

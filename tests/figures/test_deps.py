@@ -21,7 +21,7 @@ def test_every_figure_file_has_a_rule():
 def test_dependencies_follow_the_imports():
     fig2 = dependencies("fig2.png")
     assert "sunset/figures/fig2.py" in fig2 and "sunset/model/stokes_exact.py" in fig2
-    assert "sunset/recorder/film.py" not in fig2 and "sunset/vector/render.py" not in fig2
+    assert "sunset/recorder/film.py" not in fig2 and "sunset/pipeline/frame.py" not in fig2
     assert "sunset/scenes/carlas-island.toml" not in fig2            # Figure 2 draws no scene
     film = dependencies("film.mp4")
     assert "sunset/recorder/film.py" in film and "sunset/figures/fig2.py" not in film

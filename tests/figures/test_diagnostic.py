@@ -7,7 +7,7 @@ from PIL import Image
 from sunset.constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from sunset.errors import SunsetError
 from sunset.figures.diagnostic import CLASS_COLOURS, class_image, diagnostic, normal_image
-from sunset.vector.direct import trace_direct
+from sunset.pipeline.frame import trace_direct
 from sunset.model.scene import Scene
 
 

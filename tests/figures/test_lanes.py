@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-import sunset.recorder.film as film
+import sunset.pipeline.film as film
 from sunset.errors import SunsetError
 from sunset.figures import make_figures
 from sunset.figures.lanes import Queue, _can_fork, plan

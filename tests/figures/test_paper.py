@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from sunset.recorder.dicomed import expose
+from sunset.pipeline.frame import expose
 from sunset.figures import paper
 from sunset.model.scene import Scene
 from sunset.tape.tapefile import read_tape

@@ -5,7 +5,7 @@ import pytest
 
 from sunset.figures.povray import compare, frame_classes, pov_classes, povray_path, render_pov
 from sunset.model.scene import Scene
-from sunset.vector.render import render
+from sunset.pipeline.frame import render
 
 
 def test_the_flat_colours_read_back_as_destinations():

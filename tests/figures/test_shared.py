@@ -7,11 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import sunset.vector.render as vector_render
+import sunset.pipeline.frame as pipeline_frame
 from sunset.figures import make_figures, shared
 from sunset.model.scene import Scene
-import sunset.tape.cycle as cycle
-from sunset.tape.cycle import code_frame
+from sunset.pipeline.frame import code_frame
 
 SMALL = Scene.default().with_size(40, 32)
 
@@ -24,14 +23,13 @@ def files(folder: Path) -> dict[str, bytes]:
 def test_figures_made_together_are_the_bytes_of_figures_made_alone(tmp_path, monkeypatch):
     together = tmp_path / "together"
     renders = []
-    real = vector_render.render
+    real = pipeline_frame.depth_buffer
 
-    def counted(*a, **k):
-        renders.append(a[1:3])
+    def counted(*a, **k):                                     # every traced frame's depth buffer (render, code_frame)
+        renders.append(a[1:2])
         return real(*a, **k)
 
-    monkeypatch.setattr(vector_render, "render", counted)
-    monkeypatch.setattr(cycle, "render", counted)                # code_frame's
+    monkeypatch.setattr(pipeline_frame, "depth_buffer", counted)
     make_figures(together, only="6,rgb,quantisation,clouds", scene=SMALL, progress=False, log=lambda *_: None,
                  workers=1)                                   # one process: its renders are counted here
     # Figure 6's codes, the 2x2 RGB frame, the traced frame of the 8-bit test, the cloudy frame: 4 traced

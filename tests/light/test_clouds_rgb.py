@@ -13,7 +13,7 @@ from sunset.light.shade import shade
 from sunset.model.clouds import cloud_radiance
 from sunset.model.eye import spectrum_to_xyz
 from sunset.model.scene import load_named_scene
-from sunset.vector.render import render
+from sunset.pipeline.frame import render
 
 
 @pytest.fixture(scope="module")

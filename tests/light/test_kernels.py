@@ -19,7 +19,7 @@ from sunset.light.shade import shade
 from sunset.light.tone import display_linear, xyz_to_rgb_matrix
 from sunset.model.eye import xyz_response
 from sunset.model.scene import Scene
-from sunset.vector.render import render
+from sunset.pipeline.frame import render
 
 
 @pytest.fixture(scope="module")

@@ -18,7 +18,7 @@ from sunset.light.shore import (OWNER_TOLERANCE, frame_texels, owner, radius_at,
 from sunset.model.islands import Island, Paraboloid
 from sunset.model.scene import load_named_scene
 from sunset.model.waves import Sea
-from sunset.vector.render import render
+from sunset.pipeline.frame import render
 
 HOURS = 2.0
 #: A cliff that rises straight from the water (slope about 39° at the water line, r_w = 100 m) off a gentle

@@ -141,7 +141,7 @@ def test_defaults_leave_scenes_and_their_toml_unchanged():
 
 def test_defaults_render_bit_for_bit_as_before():
     """A zero phase adds nothing (not even +0.0) and standard gravity is the old constant: same codes."""
-    from sunset.tape.cycle import code_frame
+    from sunset.pipeline.frame import code_frame
 
     scene = Scene.default().with_size(48, 40)
     text = scene.to_toml().replace("[sea]\n", f"[sea]\ngravity = {GRAVITY!r}\n").replace(

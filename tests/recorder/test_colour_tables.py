@@ -8,7 +8,7 @@ from scipy.stats import spearmanr
 
 from sunset.model.camera import Camera
 from sunset.tape.codes import CODE_MAP, island_code_rho, sun_plane_angle, track_code_elevations
-from sunset.recorder.dicomed import expose
+from sunset.pipeline.frame import expose
 from sunset.recorder.colour_tables import sun_colour, tables, tables_linear
 from sunset.errors import SunsetError
 from sunset.model.scene import Scene

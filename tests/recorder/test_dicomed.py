@@ -8,7 +8,8 @@ import pytest
 from sunset.model import eye
 from sunset.model.camera import Camera
 from sunset.tape.codes import CODE_MAP
-from sunset.recorder.dicomed import expose, sun_coverage
+from sunset.pipeline.frame import expose
+from sunset.recorder.dicomed import sun_coverage
 from sunset.recorder.colour_tables import sun_colour, tables
 from sunset.errors import SunsetError
 from sunset.io import png_bytes

@@ -7,12 +7,11 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from sunset.tape.codes import encode
-from sunset.recorder.dicomed import expose
+from sunset.pipeline.frame import encode, expose, render
 from sunset.errors import SunsetError
-from sunset.recorder.film import cycle_times, film_frames, film_hours, make_film, render_cycle, write_film
+from sunset.pipeline.film import make_film, render_cycle, write_film
+from sunset.recorder.film import cycle_times, film_frames, film_hours
 from sunset.io import png_bytes
-from sunset.vector.render import render
 from sunset.model.scene import Scene
 from sunset.tape.tapefile import read_tape, tape_bytes
 from sunset.model.waves import Sea, WaveTrain

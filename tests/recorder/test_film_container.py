@@ -12,7 +12,8 @@ from PIL import Image
 
 from sunset.model.scene import Scene
 from sunset.provenance import provenance, provenance_json
-from sunset.recorder.film import _mp4_writer, make_film, render_cycle, write_film
+from sunset.pipeline.film import make_film, render_cycle, write_film
+from sunset.recorder.film import _mp4_writer
 
 SIZE = (120, 96)
 

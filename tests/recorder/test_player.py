@@ -10,16 +10,16 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from sunset import Scene, expose
+from sunset import expose, Scene
 from sunset.cli import main
 from sunset.errors import SunsetError
 from sunset.recorder.colour_tables import sun_colour, tables
 from sunset.recorder.dicomed import sun_coverage
-from sunset.recorder.film import render_cycle
+from sunset.pipeline.film import player_data, render_cycle, write_player
 from sunset.recorder.player import (HTML_SUFFIXES, PLAYER_FORMAT, code_meanings, compose, data_tables,
-                                    decode_codes, encode_thresholds, hours_grid, nearest_hour, player_data,
+                                    decode_codes, encode_thresholds, hours_grid, nearest_hour,
                                     player_fragment, player_html, player_size, quantise, read_player_data,
-                                    sun_geometry, write_player, _DATA_ID)
+                                    sun_geometry, _DATA_ID)
 from sunset.tape.codes import CODE_MAP
 from sunset.model.waves import Sea, WaveTrain
 
@@ -280,7 +280,7 @@ def test_a_sea_that_never_repeats_fails_before_the_work(tmp_path, scene):
 
 
 def test_an_interrupted_player_leaves_no_file(tmp_path, monkeypatch, scene):
-    import sunset.recorder.player as player
+    import sunset.pipeline.film as player
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt

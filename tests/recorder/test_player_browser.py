@@ -25,8 +25,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from sunset.recorder.film import render_cycle
-from sunset.recorder.player import hours_grid, player_data, player_html, read_player_data
+from sunset.pipeline.film import player_data, render_cycle
+from sunset.recorder.player import hours_grid, player_html, read_player_data
 from tests.recorder.player_browser import (PLAYER_ID, ROOT, check_player, compare_dumps, decoded_png,
                                            dump_cases, filtered_png, open_player, play)
 from tests.recorder.test_player import sun_scene

@@ -11,9 +11,8 @@ import numpy as np
 import pytest
 
 from sunset.model.camera import Camera
-from sunset.tape.codes import (CODE_MAP, CodeMap, CodeRange, dither, elevation_index, encode, island_code_rho, island_offsets, rho,
-                          rho_hat,
-                          sky_code_z, sky_index, sun_plane_angle, track_code_elevations, track_elevation_max)
+from sunset.pipeline.frame import encode
+from sunset.tape.codes import CODE_MAP, CodeMap, CodeRange, dither, elevation_index, island_code_rho, island_offsets, rho, rho_hat, sky_code_z, sky_index, sun_plane_angle, track_code_elevations, track_elevation_max
 from sunset.constants import HALO_FACTOR, N_CODES, PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from sunset.errors import SunsetError
 from sunset.vector.frame import Frame

@@ -17,7 +17,8 @@ from sunset.constants import PART_CLIFF
 from sunset.errors import SunsetError
 from sunset.model.scene import as_scene
 from sunset.tape import codes, codes_numba
-from sunset.vector.render import render
+from sunset.pipeline.frame import render
+from sunset.pipeline.frame import encode
 
 from ..agree import assert_codes_agree
 
@@ -65,13 +66,13 @@ def test_the_compiled_rows_agree_with_the_numpy_ones(name):
                 assert got_u[r0] is None
         # whole frames: each path the same bytes on any threads, and the two paths agreeing
         with kernels.use_compiled(False):
-            ref = codes.encode(scene, frame, seed=seed)
+            ref = encode(scene, frame, seed=seed)
         with kernels.use_compiled(True), kernels.use_threads(1):
-            one = codes.encode(scene, frame, seed=seed)
+            one = encode(scene, frame, seed=seed)
         assert_codes_agree(scene, frame, frame, ref, one, seed, name)
         for n in (2, 3):
             with kernels.use_compiled(True), kernels.use_threads(n):
-                np.testing.assert_array_equal(codes.encode(scene, frame, seed=seed), one)
+                np.testing.assert_array_equal(encode(scene, frame, seed=seed), one)
 
 
 def test_an_unknown_island_part_is_refused_on_both_paths():
@@ -82,4 +83,4 @@ def test_an_unknown_island_part_is_refused_on_both_paths():
     frame.final_part[island] = 7
     for compiled in (False, True):
         with kernels.use_compiled(compiled), pytest.raises(SunsetError, match="got 7"):
-            codes.encode(scene, frame)
+            encode(scene, frame)

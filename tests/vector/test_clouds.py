@@ -10,10 +10,10 @@ from sunset.constants import CLOUD, SEA, SKY
 from sunset.model.clouds import CloudCell, Clouds
 from sunset.model.scene import load_named_scene
 from sunset.model.waves import Sea
-from sunset.tape.codes import CLOUDY_CODE_MAP, code_map, encode
+from sunset.pipeline.frame import encode, render
+from sunset.tape.codes import CLOUDY_CODE_MAP, code_map
 from sunset.vector.bruteforce import trace_clouds_bruteforce
 from sunset.vector.clouds import cloud_scan
-from sunset.vector.render import render
 
 from ..agree import assert_codes_agree
 

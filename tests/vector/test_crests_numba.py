@@ -16,9 +16,10 @@ import pytest
 from sunset import kernels
 from sunset.constants import SEA
 from sunset.model.scene import Scene
-from sunset.vector import crests, crests_numba, direct, pierce, reflect, reflect_numba
+from sunset.vector import crests, crests_numba, pierce, reflect, reflect_numba
 from sunset.vector.frame import Frame
-from sunset.tape.codes import encode
+from sunset.pipeline.frame import encode
+from sunset.pipeline.frame import trace_direct, trace_reflections
 
 from ..agree import assert_codes_agree, assert_geometry_agrees
 from .test_slopes_numba import same_bits, seas
@@ -81,8 +82,8 @@ def frame_bits(frame):
 
 
 def traced(scene, t, mode, sea_bounces):
-    frame = direct.trace_direct(scene, t)
-    return reflect.trace_reflections(scene, frame, mode, sea_bounces)
+    frame = trace_direct(scene, t)
+    return trace_reflections(scene, frame, mode, sea_bounces)
 
 
 @pytest.mark.parametrize("name", ["order 1", "order 2", "order 4", "default", "still"])
@@ -111,7 +112,7 @@ def test_reflected_frames_agree_with_numpys_and_not_with_the_threads(name, mode)
 
 def test_the_strip_twin_agrees_with_the_reference_on_a_strip():
     scene = scene_with("order 4", (150, 120))
-    frame = direct.trace_direct(scene, 1.0).finish_direct(True)
+    frame = trace_direct(scene, 1.0).finish_direct(True)
     frame.reflections = 2
     a = frame.rows(30, 95)
     ref = Frame(**{f.name: (v.copy() if isinstance(v := getattr(frame, f.name), np.ndarray) else v)

@@ -6,8 +6,8 @@ import pytest
 from sunset import kernels
 from sunset.constants import SEA
 from sunset.model.scene import Scene
-from sunset.vector import direct
-from sunset.vector.reflect import trace_reflections
+from sunset.pipeline.frame import trace_reflections
+from sunset.pipeline.frame import trace_direct
 
 from .test_crests_numba import frame_bits
 
@@ -17,20 +17,20 @@ from .test_crests_numba import frame_bits
 def test_trace_reflections_own_finish_is_the_full_one(compiled, mode):
     scene = Scene.default().with_size(120, 90)
     with kernels.use_compiled(compiled):
-        base = direct.trace_direct(scene, 1.5)
+        base = trace_direct(scene, 1.5)
         all_sea = np.all(base.surface == SEA, axis=1)
         assert all_sea.any() and not all_sea.all()          # rows of both kinds
         for sea_bounces in (True, False):
-            full = trace_reflections(scene, direct.trace_direct(scene, 1.5).finish_direct(sea_bounces), mode,
+            full = trace_reflections(scene, trace_direct(scene, 1.5).finish_direct(sea_bounces), mode,
                                      sea_bounces)
-            own = trace_reflections(scene, direct.trace_direct(scene, 1.5), mode, sea_bounces)
+            own = trace_reflections(scene, trace_direct(scene, 1.5), mode, sea_bounces)
             assert frame_bits(own) == frame_bits(full)
 
 
 def test_the_rows_with_other_pixels_are_finished():
     scene = Scene.default().with_size(120, 90)
-    frame = direct.trace_direct(scene, 0.0)
-    full = direct.trace_direct(scene, 0.0).finish_direct(False)
+    frame = trace_direct(scene, 0.0)
+    full = trace_direct(scene, 0.0).finish_direct(False)
     frame.finish_direct(False, sea_rows=False)
     keep = ~np.all(frame.surface == SEA, axis=1)
     for name in ("ray", "final_normal"):

@@ -13,7 +13,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sunset.vector import heightfield as hf
-from sunset.vector import direct
 from sunset.vector.bruteforce import trace_direct_bruteforce
 from sunset.model.camera import Camera
 from sunset.constants import PART_CLIFF, PART_NONE, SEA, SKY
@@ -21,6 +20,7 @@ from sunset.errors import SunsetError
 from sunset.model.islands import Island, Paraboloid
 from sunset.model.scene import Scene
 from sunset.model.waves import Sea, WaveTrain
+from sunset.pipeline.frame import trace_direct
 
 finite = dict(allow_nan=False, allow_infinity=False)
 
@@ -64,7 +64,7 @@ def test_sample_count_scales_as_one_over_sigma(sigma):
 def test_no_sea_samples_when_the_window_is_above_the_horizon():
     cam = Camera(width=10, height=20, zy_min=0.01, zy_max=0.2)
     assert hf.sampling(cam, 0.5).n == 0
-    frame = direct.trace_direct(Scene(camera=cam, sea=Sea((WaveTrain(0.3, 20.0),))), 0.0)
+    frame = trace_direct(Scene(camera=cam, sea=Sea((WaveTrain(0.3, 20.0),))), 0.0)
     assert np.all(frame.surface == SKY)
 
 
@@ -171,7 +171,7 @@ def test_scanline_gradient_by_finite_differences(orders):
 
 def test_still_water_is_the_exact_plane():
     cam = Camera(eye_height=2.5, width=40, height=60, s_min=-0.4, s_max=0.3, zy_min=-0.3, zy_max=0.1)
-    frame = direct.trace_direct(Scene(camera=cam), 0.0)
+    frame = trace_direct(Scene(camera=cam), 0.0)
     D = cam.directions()
     sea = D[..., 2] < 0
     np.testing.assert_array_equal(frame.surface == SEA, sea)
@@ -184,7 +184,7 @@ def test_still_water_is_the_exact_plane():
 
 
 def test_frame_fields(small_default):
-    frame = direct.trace_direct(small_default, 0.4)
+    frame = trace_direct(small_default, 0.4)
     H, W = 64, 64
     assert frame.shape == (H, W)
     assert frame.surface.dtype == np.int8 and frame.part.dtype == np.int8
@@ -205,7 +205,7 @@ def test_frame_fields(small_default):
 
 
 def test_surfaces_agree_with_the_brute_force_caster(small_default, brute_default):
-    frame = direct.trace_direct(small_default, 0.0)
+    frame = trace_direct(small_default, 0.0)
     agree = frame.surface == brute_default.surface
     # Disagreements can only come from rays that graze a crest or a summit
     # between two samples; at σ = 1/4 these are a few silhouette pixels.
@@ -214,7 +214,7 @@ def test_surfaces_agree_with_the_brute_force_caster(small_default, brute_default
 
 
 def test_island_hits_agree_with_the_brute_force_caster(small_default, brute_default):
-    frame = direct.trace_direct(small_default, 0.0)
+    frame = trace_direct(small_default, 0.0)
     both = (frame.surface > 0) & (frame.surface == brute_default.surface)
     assert both.sum() > 50
     rel = np.abs(frame.distance[both] / brute_default.distance[both] - 1)
@@ -224,7 +224,7 @@ def test_island_hits_agree_with_the_brute_force_caster(small_default, brute_defa
 
 
 def test_sea_hits_agree_with_the_brute_force_caster_away_from_the_horizon(small_default, brute_default):
-    frame = direct.trace_direct(small_default, 0.0)
+    frame = trace_direct(small_default, 0.0)
     cam = small_default.camera
     both = (frame.surface == SEA) & (brute_default.surface == SEA)
     # a pixel near the horizon spans hundreds of metres of sea: its hit
@@ -241,7 +241,7 @@ def test_sea_hits_agree_with_the_brute_force_caster_away_from_the_horizon(small_
 
 def test_sea_normals_are_the_waves_gradient(small_default):
     scene = small_default
-    frame = direct.trace_direct(scene, 0.8)
+    frame = trace_direct(scene, 0.8)
     sea = frame.surface == SEA
     p = frame.point[sea].astype(float)
     e = 1e-4
@@ -254,7 +254,7 @@ def test_sea_normals_are_the_waves_gradient(small_default):
 
 def test_island_normals_and_parts_at_the_hit_points(small_default):
     scene = small_default
-    frame = direct.trace_direct(scene, 0.0)
+    frame = trace_direct(scene, 0.0)
     for k, isl in enumerate(scene.islands, start=1):
         sel = frame.surface == k
         p = frame.point[sel].astype(float)
@@ -268,7 +268,7 @@ def test_ray_meets_a_bare_paraboloid_where_the_quadratic_says():
     isl = Island(x=30.0, y=600.0, cliff=Paraboloid(60.0, 0.004, 0.001, 0.003), beach=Paraboloid(0.5, 0.01, 0.0, 0.01),
                  cliff_top=59.0, hill_factor=1.0)
     cam = Camera(eye_height=2.0, width=48, height=48, s_min=-0.15, s_max=0.25, zy_min=-0.05, zy_max=0.1, sigma=0.25)
-    frame = direct.trace_direct(Scene(camera=cam, islands=(isl,)), 0.0)
+    frame = trace_direct(Scene(camera=cam, islands=(isl,)), 0.0)
     s = cam.s_centres()[None, :] * np.ones((48, 1))
     z = cam.zy_centres()[:, None] * np.ones((1, 48))
     par, X, Y = isl.cliff, isl.x, isl.y
@@ -295,7 +295,7 @@ def test_islands_pass_in_front_of_the_sea_and_behind_each_other():
     near = Island(x=0.0, y=500.0, cliff=Paraboloid(20.0, 0.01, 0.0, 0.01), beach=Paraboloid(1.0, 1e-3, 0, 1e-3),
                   cliff_top=15.0, hill_factor=0.5)
     cam = Camera(eye_height=2.0, width=30, height=40, s_min=-0.2, s_max=0.2, zy_min=-0.05, zy_max=0.1)
-    frame = direct.trace_direct(Scene(camera=cam, islands=(big, near)), 0.0)
+    frame = trace_direct(Scene(camera=cam, islands=(big, near)), 0.0)
     col = 15
     column = frame.surface[:, col]
     assert (column == 1).any() and (column == 2).any() and (column == SEA).any()
@@ -308,33 +308,35 @@ def test_islands_pass_in_front_of_the_sea_and_behind_each_other():
 def test_periodic_in_time(small_default):
     scene = small_default
     T = scene.sea.period
-    a = direct.trace_direct(scene, 0.7)
-    b = direct.trace_direct(scene, 0.7 + T)
+    a = trace_direct(scene, 0.7)
+    b = trace_direct(scene, 0.7 + T)
     assert np.mean(a.surface == b.surface) > 0.999
     both = (a.surface == SEA) & (b.surface == SEA)
     assert np.median(np.abs(a.distance[both] / b.distance[both] - 1)) < 1e-5
 
 
 def test_deterministic(small_default):
-    a = direct.trace_direct(small_default, 1.5)
-    b = direct.trace_direct(small_default, 1.5)
+    a = trace_direct(small_default, 1.5)
+    b = trace_direct(small_default, 1.5)
     for name in ("surface", "part", "distance", "point", "normal"):
         assert getattr(a, name).tobytes() == getattr(b, name).tobytes(), name
 
 
 def test_chunking_does_not_change_the_frame(small_default, monkeypatch):
-    a = direct.trace_direct(small_default, 0.0)
-    monkeypatch.setattr(direct, "SCANLINE_CHUNK_ELEMENTS", 3000)  # a few scan lines per chunk
-    b = direct.trace_direct(small_default, 0.0)
+    a = trace_direct(small_default, 0.0)
+    import sunset.pipeline.frame as pipeline_frame
+
+    monkeypatch.setattr(pipeline_frame, "SCANLINE_CHUNK_ELEMENTS", 3000)  # a few scan lines per chunk
+    b = trace_direct(small_default, 0.0)
     for name in ("surface", "part", "distance", "normal"):
         assert getattr(a, name).tobytes() == getattr(b, name).tobytes(), name
 
 
 def test_paper_sampling_of_islands_is_the_sea_lattice(small_default):
     info = {}
-    direct.trace_direct(small_default, 0.0, refine_islands=False, info=info)
+    trace_direct(small_default, 0.0, refine_islands=False, info=info)
     info_fine = {}
-    direct.trace_direct(small_default, 0.0, info=info_fine)
+    trace_direct(small_default, 0.0, info=info_fine)
     assert info["island_samples"] < info_fine["island_samples"]
     assert info["sea_samples"] == info_fine["sea_samples"] == hf.sampling(
         small_default.camera, small_default.sea.max_elevation).n
@@ -343,7 +345,7 @@ def test_paper_sampling_of_islands_is_the_sea_lattice(small_default):
 def test_near_plane_clips_waves_taller_than_the_eye():
     cam = Camera(eye_height=0.5, width=16, height=16)
     sea = Sea((WaveTrain(0.6, 20.0, 270.0),))
-    frame = direct.trace_direct(Scene(camera=cam, sea=sea), 0.0)
+    frame = trace_direct(Scene(camera=cam, sea=sea), 0.0)
     assert not np.isnan(frame.distance).any()
     assert (frame.surface == SEA).any()
 
@@ -351,13 +353,13 @@ def test_near_plane_clips_waves_taller_than_the_eye():
 @pytest.mark.parametrize("t", [float("nan"), float("inf")])
 def test_bad_time(t, small_default):
     with pytest.raises(SunsetError, match="^t "):
-        direct.trace_direct(small_default, t)
+        trace_direct(small_default, t)
 
 
 def test_sigma_is_the_camera_parameter(small_default):
     coarse = replace(small_default, camera=replace(small_default.camera, sigma=2.0))
     i1, i2 = {}, {}
-    direct.trace_direct(coarse, 0.0, info=i1)
-    direct.trace_direct(small_default, 0.0, info=i2)
+    trace_direct(coarse, 0.0, info=i1)
+    trace_direct(small_default, 0.0, info=i2)
     # eight times as many samples (up to the rounding of the nearest one)
     assert i2["sea_samples"] == pytest.approx(8 * i1["sea_samples"], abs=8 * 2)

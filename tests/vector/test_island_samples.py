@@ -16,9 +16,9 @@ from sunset import kernels
 from sunset.constants import ISLAND_SAMPLE_BUDGET, SKY
 from sunset.model.islands import Cosine, Island, Paraboloid
 from sunset.model.scene import Scene, as_scene
-from sunset.vector import direct
 from sunset.vector.heightfield import sampling
 from sunset.vector.island_samples import islands_scan, probe_refinement
+from sunset.pipeline.frame import island_pass
 
 from ..agree import assert_depth_agrees
 
@@ -122,12 +122,12 @@ def test_the_comparison_sees_a_wrong_island():
 def test_the_island_pass_agrees_on_both_paths_and_not_with_the_threads(size):
     scene = as_scene("archipelago-at-dusk").with_size(*size)
     with kernels.use_compiled(False), kernels.use_threads(1):
-        want = direct.island_pass(scene)
+        want = island_pass(scene)
     assert len({c for c in np.unique(want.code) if c > 0}) >= 3      # many islands seen
     runs = []
     for n in (1, 2, 3):
         with kernels.use_compiled(True), kernels.use_threads(n):
-            got = direct.island_pass(scene)
+            got = island_pass(scene)
         runs.append((got.u, got.code, got.samples))
     assert_agree(runs[0], (want.u, want.code, want.samples))
     for run in runs[1:]:

@@ -19,7 +19,7 @@ from sunset.vector.frame import Frame
 from sunset.model.islands import Cosine, Island, Paraboloid
 from sunset.vector.crests import crest_curvature, crest_cylinder, cylinder_coefficients, largest_train, secondary_reflections
 from sunset.vector.pierce import gather, island_normal, paraboloid_coefficients, pierce_island, pierce_islands, pierce_paraboloid, quadratic_interval, reflect, scatter
-from sunset.vector.reflect import trace_reflections
+from sunset.pipeline.frame import trace_reflections
 from sunset.model.scene import Scene
 from sunset.model.waves import Sea, WaveTrain
 
@@ -653,7 +653,7 @@ def test_a_train_too_small_for_a_crest_curvature_counts_as_still_water():
     from sunset.model.scene import Scene
     from sunset.model.waves import Sea, WaveTrain
     from sunset.vector.crests import largest_train
-    from sunset.vector.render import render
+    from sunset.pipeline.frame import render
 
     tiny = Sea((WaveTrain(amplitude=1e-323, wavelength=40.0, direction=90.0),))   # k·a rounds to 0
     assert largest_train(tiny) is None

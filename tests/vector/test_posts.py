@@ -10,9 +10,9 @@ from sunset.constants import POST, SEA
 from sunset.model.posts import Post
 from sunset.model.scene import load_named_scene
 from sunset.model.waves import Sea
-from sunset.tape.codes import CODE_MAP, encode
+from sunset.pipeline.frame import encode, render
+from sunset.tape.codes import CODE_MAP
 from sunset.vector.posts import post_box
-from sunset.vector.render import render
 
 from ..agree import assert_codes_agree
 

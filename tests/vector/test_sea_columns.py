@@ -16,13 +16,12 @@ import pytest
 
 from sunset import kernels
 from sunset.constants import SEA, SKY
-from sunset.model.scene import Scene, as_scene, scene_names
+from sunset.model.scene import as_scene, Scene, scene_names
 from sunset.model.waves import Sea, WaveTrain
 from sunset.vector.sincos_numba import LIMIT
-from sunset.vector import direct
-from sunset.vector import heightfield as hf
-from sunset.vector import heightfield_numba
-from sunset.vector.render import render
+from sunset.vector import heightfield as hf, heightfield_numba
+from sunset.pipeline.frame import render
+from sunset.pipeline.frame import trace_direct
 
 from ..agree import assert_depth_agrees, assert_geometry_agrees
 
@@ -169,11 +168,11 @@ def test_the_sea_wins_exact_ties():
 def test_the_direct_rays_do_not_depend_on_the_threads_and_agree_across_paths(name):
     scene = as_scene(name).with_size(130, 97)
     with kernels.use_compiled(False):
-        ref = direct.trace_direct(scene, 2.5)
+        ref = trace_direct(scene, 2.5)
     runs = []
     for n in (1, 2, 3):
         with kernels.use_compiled(True), kernels.use_threads(n):
-            runs.append(direct.trace_direct(scene, 2.5))
+            runs.append(trace_direct(scene, 2.5))
     for got in runs[1:]:
         for field in ("surface", "distance", "point", "normal", "direction"):
             np.testing.assert_array_equal(getattr(got, field).view(np.uint8), getattr(runs[0], field).view(np.uint8))

@@ -15,6 +15,7 @@ from sunset.model.waves import Sea, WaveTrain
 from sunset.vector import direct
 from sunset.vector import heightfield as hf
 from sunset.vector import slopes_numba
+from sunset.pipeline.frame import trace_direct
 
 from ..agree import assert_geometry_agrees
 
@@ -119,11 +120,11 @@ def test_the_direct_frame_agrees_on_both_paths_and_not_with_the_threads():
         scene = Scene(camera=base.camera, sun=base.sun, sea=seas()[name], islands=base.islands)
         for t in (0.0, 2.9):
             with kernels.use_compiled(False):
-                ref = direct.trace_direct(scene, t)
+                ref = trace_direct(scene, t)
             runs = []
             for threads in (1, 2):
                 with kernels.use_threads(threads):
-                    runs.append(direct.trace_direct(scene, t))
+                    runs.append(trace_direct(scene, t))
             for field in ("surface", "direction", "point", "distance", "normal", "part"):
                 assert same_bits(getattr(runs[1], field), getattr(runs[0], field)), (name, t, field)
             assert_geometry_agrees(ref.finish_direct(False), runs[0].finish_direct(False), f"{name} t={t}")

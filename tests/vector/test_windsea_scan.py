@@ -18,7 +18,7 @@ from sunset.model.ocean import OceanTile
 from sunset.model.scene import Scene
 from sunset.model.waves import Sea
 from sunset.model.windsea import WindSea
-from sunset.vector import direct
+from sunset.pipeline.frame import trace_direct
 from sunset.vector.bruteforce import compare, trace_direct_bruteforce
 from sunset.vector.heightfield import sampling
 from sunset.vector.windsea_scan import wind_columns, wind_gradient_on_scanlines, wind_profile
@@ -102,7 +102,7 @@ def test_a_frame_of_a_wind_sea_is_the_same_bytes_on_any_number_of_threads(scene,
     frames = []
     for n in (1, 2):
         with use_compiled(compiled), use_threads(n):
-            frames.append(direct.trace_direct(scene, 2.0))
+            frames.append(trace_direct(scene, 2.0))
     for name in ("surface", "distance", "point", "normal"):
         assert getattr(frames[0], name).tobytes() == getattr(frames[1], name).tobytes(), name
 
@@ -114,7 +114,7 @@ def brute(scene):
 
 def test_the_direct_rays_agree_with_the_brute_force_caster(scene, brute):
     """The σ-sampled scan line against marching every ray through the same interpolated surface."""
-    frame = direct.trace_direct(scene, 2.0)
+    frame = trace_direct(scene, 2.0)
     c = compare(frame, brute)
     # disagreements are rays that graze a crest between two samples near the horizon
     assert c["agree"] >= 0.99, c

@@ -155,15 +155,14 @@ def count_frame(scene, t: float = 0.0) -> FrameCount:
     """Count the loops of one Figure 6 frame of ``scene`` (at its camera's size) at time ``t``.
 
     The sizes come from the renderer itself: the scan lines' sample count and
-    island samples from :func:`sunset.vector.direct.trace_direct`, the sea
-    pixels and the twice-reflected rays from :func:`sunset.vector.render.render`.
+    island samples from :func:`sunset.pipeline.frame.trace_direct`, the sea
+    pixels and the twice-reflected rays from :func:`sunset.pipeline.frame.trace_reflections`.
     The operations per element are counted from the formulas the loops
     evaluate (the module's docstrings and the book's chapter *History* show
     them as FORTRAN beside the NumPy).
     """
     from ..constants import SEA
-    from .direct import trace_direct
-    from .reflect import trace_reflections
+    from .frame import trace_direct, trace_reflections
 
     info: dict = {}
     frame = trace_reflections(scene, trace_direct(scene, t, info=info), 2)

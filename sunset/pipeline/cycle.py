@@ -1,9 +1,23 @@
-"""The tape of one wave cycle: each frame's rays traced and coded, several frames at once.
+"""A wave cycle's tape through the pipeline: what stays still computed once, the frames over worker processes.
 
-:func:`code_frame` is the vector stage for one frame, ending on the tape:
-:func:`sunset.vector.render.render`, then :func:`sunset.tape.codes.encode`.
+In a wave cycle only the sea moves. The islands' share of the direct rays
+(:func:`sunset.pipeline.frame.island_pass`) does not change with time, and
+neither does anything the 8-bit code of a pixel depends on where the sea does
+not reach it: a direct ray that ends in the sky is coded by its direction
+alone, one that ends on an island by the island's part and normal there, and
+the dither is the same for every frame (:func:`sunset.tape.codes.dither`).
+So :func:`cycle_pass` codes, once per cycle, the frame of the islands and the
+sky alone (:func:`sunset.pipeline.frame.islands_alone`, then
+:func:`sunset.pipeline.frame.encode`): every pixel the sea does not take has
+that code in every frame. A frame of the cycle
+(:func:`sunset.pipeline.frame.code_frame` with the :class:`CyclePass`) then
+traces and codes only its sea pixels, strip by strip of rows; the codes are
+byte-identical to the whole frame's (tests). Scenes with clouds or posts in
+the water are coded the whole way: their sky and posts are not still in the
+same sense.
+
 :func:`code_frames` codes the frames of a cycle in a pool of processes
-(:func:`frame_workers`), byte-identical to a serial run.
+(:func:`sunset.pipeline.workers.frame_workers`), byte-identical to a serial run.
 """
 
 from __future__ import annotations
@@ -11,29 +25,31 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import require_int_range
-from ..kernels import keep_freed_memory, use_threads
+from ..kernels import keep_freed_memory, row_strips, run_strips, use_threads
 from ..model.scene import Scene
-from ..vector.render import render
-from .codes import encode
-from .still import CyclePass, code_sea, cycle_pass
+from ..vector.direct import IslandPass
+from ..vector.budget import check_work
+from .frame import CyclePass, check_cycle_pass, code_frame, encode, island_pass, islands_alone, still_key  # noqa: F401
+from .workers import frame_workers, start_method
 
-__all__ = ["code_frame", "code_frames", "frame_workers"]
+__all__ = ["CyclePass", "cycle_pass", "still_key", "check_cycle_pass", "code_frames"]
 
 
-def code_frame(scene: Scene, t: float, reflections: int = 2, seed: int = 0, islands=None):
-    """The vector stage for one frame: :func:`render` then :func:`sunset.tape.codes.encode` (uint8 (H, W)).
+def cycle_pass(scene, seed: int = 0, islands: IslandPass | None = None, *, work=None) -> CyclePass:
+    """The still part of every frame of ``scene``'s wave cycle coded with ``seed`` (:class:`CyclePass`).
 
-    ``islands``: what many frames share, when they do: the scene's island
-    pass (:func:`sunset.vector.direct.island_pass`), or the still part of a
-    wave cycle (:func:`sunset.tape.still.cycle_pass`), with which only the
-    sea's pixels are traced and coded (:func:`sunset.tape.still.code_sea`;
-    the same bytes).
+    ``islands``: the scene's island pass, when it is already there; ``work``: the budget, checked already.
     """
-    if isinstance(islands, CyclePass):
-        if scene.clouds is None and not scene.posts:
-            return code_sea(scene, float(t), reflections, seed, islands)
-        islands = islands.islands
-    return encode(scene, render(scene, float(t), reflections, islands=islands, sea_bounces=False), seed=seed)
+    require_int_range("seed", seed, 0, 2**32 - 1)
+    if islands is None:
+        islands = island_pass(scene, work=work)
+    frame = islands_alone(scene, islands).allocate_final(False)
+    run_strips(frame.finish_rows, row_strips(*frame.shape))
+    codes = encode(scene, frame, seed=seed)
+    for a in (frame.direction, codes):
+        a.flags.writeable = False
+    return CyclePass(key=still_key(scene, seed), islands=islands, direction=frame.direction, codes=codes,
+                     seed=int(seed))
 
 
 #: What a worker process of :func:`code_frames` keeps for all its frames: the islands' pass, and the
@@ -41,8 +57,9 @@ def code_frame(scene: Scene, t: float, reflections: int = 2, seed: int = 0, isla
 _WORKER: dict = {}
 
 
-def _start_worker(islands, out=None) -> None:
+def _start_worker(islands, work=None, out=None) -> None:
     _WORKER["islands"] = islands
+    _WORKER["work"] = work
     _WORKER["out"] = out
     # the frames' large arrays are the same size every frame: the allocator keeps them instead of handing them
     # back to the system and faulting them in again, page by page, for the next frame (the worker's peak
@@ -76,7 +93,7 @@ def _code_frame_task(args):
     # the frames run side by side in the processes, one thread each
     i, args = args
     with use_threads(1):
-        codes = code_frame(*args, islands=_WORKER.get("islands"))
+        codes = code_frame(*args, islands=_WORKER.get("islands"), work=_WORKER.get("work"))
     out = _WORKER.get("out")
     if out is None:
         return codes
@@ -98,9 +115,9 @@ def _worker_ignores_interrupts():
         signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)     # blocked by the parent around the fork
 
 
-def _start_quiet_worker(islands, out=None) -> None:
+def _start_quiet_worker(islands, work=None, out=None) -> None:
     _worker_ignores_interrupts()
-    _start_worker(islands, out)
+    _start_worker(islands, work, out)
 
 
 def _stop_signals():
@@ -110,27 +127,6 @@ def _stop_signals():
 
 
 _STOP_SIGNALS = _stop_signals()
-
-
-def usable_cpus() -> int:
-    """The CPUs this process may run on (:func:`sunset.guard.usable_cpus`)."""
-    from ..guard import usable_cpus as cpus
-
-    return cpus()
-
-
-def frame_workers(workers: int | None = None, frames: int = 1) -> int:
-    """How many processes render frames: ``workers`` (``--jobs``), else ``$SUNSET_WORKERS``, else every usable CPU.
-
-    Never more than ``frames`` nor than the usable CPUs: more processes buy nothing. A bad
-    ``$SUNSET_WORKERS`` (a sign, a word, non-ASCII digits, 0) raises (:func:`sunset.guard.env_count`).
-    """
-    from ..guard import env_count
-
-    if workers is None:
-        workers = env_count("SUNSET_WORKERS") or usable_cpus()
-    require_int_range("workers", workers, 1)
-    return max(1, min(int(workers), int(frames), usable_cpus()))
 
 
 #: The kinds of frame (:func:`_warm_key`) this process has coded: their compiled kernels are loaded.
@@ -158,13 +154,14 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     loaded and every frame goes to the workers (no frame waits for another).
 
     The islands do not move: their share of the direct rays
-    (:func:`sunset.vector.direct.island_pass`) is computed once, here, and
-    handed to every worker when it starts, instead of once per frame.
+    (:func:`sunset.pipeline.frame.island_pass`) and the codes of what the
+    sea does not reach (:func:`cycle_pass`) are computed once, here, and
+    handed to every worker when it starts, instead of once per frame; so is
+    the budget, checked once for the cycle (:func:`sunset.vector.budget.check_work`).
 
     Each worker holds one frame at a time, so the workers are at most
-    MAX_FRAME_BYTES over the frame's predicted bytes
-    (:func:`sunset.vector.budget.predict_work`): a large picture is coded by
-    fewer processes rather than by more memory than the budget.
+    MAX_FRAME_BYTES over the frame's predicted bytes: a large picture is
+    coded by fewer processes rather than by more memory than the budget.
 
     Parameters
     ----------
@@ -181,7 +178,6 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     ndarray (N, H, W) uint8
     """
     import multiprocessing
-    import sys
     import threading
     from concurrent.futures import ProcessPoolExecutor
 
@@ -189,11 +185,11 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
     cam = scene.camera
     out = np.empty((len(times), cam.height, cam.width), np.uint8)
     n = frame_workers(workers, len(times))
-    if n > 1:                                # every worker holds a frame: together they keep to the budget
+    work = check_work(scene) if times else None     # the budget, once for the cycle, passed to every frame
+    if n > 1 and work is not None:           # every worker holds a frame: together they keep to the budget
         from ..constants import MAX_FRAME_BYTES
-        from ..vector.budget import predict_work
 
-        n = max(1, min(n, MAX_FRAME_BYTES // max(predict_work(scene).bytes, 1)))
+        n = max(1, min(n, MAX_FRAME_BYTES // max(work.bytes, 1)))
 
     def put(i, codes):
         out[i] = codes
@@ -202,11 +198,7 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
 
     if not times:
         return out
-    methods = multiprocessing.get_all_start_methods()
-    # fork is cheapest (the children share the loaded kernels); Python 3.12+ warns about forking a
-    # process that has threads (BLAS has), so there the forkserver starts the workers
-    method = "fork" if "fork" in methods and sys.version_info < (3, 12) else (
-        "forkserver" if "forkserver" in methods else "spawn")
+    method = start_method()
     shared = n > 1 and len(times) > 1 and method == "fork"
     if shared:
         # forked workers write their frames into memory shared with this process (an anonymous shared
@@ -214,22 +206,22 @@ def code_frames(scene: Scene, times, reflections: int = 2, seed: int = 0, worker
         import mmap
 
         out = np.frombuffer(mmap.mmap(-1, max(out.nbytes, 1)), np.uint8, count=out.size).reshape(out.shape)
-    islands = cycle_pass(scene, seed)
+    islands = cycle_pass(scene, seed, work=work)
     first = 0
     if n <= 1 or _warm_key(scene) not in _WARM:
         # rendered here first: the workers inherit the loaded kernels (and so does the next call)
-        put(0, code_frame(scene, times[0], reflections, seed, islands=islands))
+        put(0, code_frame(scene, times[0], reflections, seed, islands=islands, work=work))
         _WARM.add(_warm_key(scene))
         first = 1
     rest = [(i, (scene, t, reflections, seed)) for i, t in enumerate(times[first:], start=first)]
     if n <= 1 or not rest:
         for i, args in rest:
-            put(i, code_frame(*args, islands=islands))
+            put(i, code_frame(*args, islands=islands, work=work))
         return out
     import signal
 
     pool = ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context(method),
-                               initializer=_start_quiet_worker, initargs=(islands, out if shared else None))
+                               initializer=_start_quiet_worker, initargs=(islands, work, out if shared else None))
     # A signal that arrives while the workers are forked would run the parent's handler inside an
     # at-fork callback, which swallows its exception (the interrupt would be lost) or kill a child
     # before it ignores signals: they are held back until the workers exist, then delivered here.

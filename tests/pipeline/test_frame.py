@@ -1,4 +1,4 @@
-"""The whole vector stage on many scenes (sunset/vector/render.py), property-based.
+"""A frame through the pipeline on many scenes (sunset/pipeline/frame.py), property-based.
 
 Hypothesis draws valid scenes (eye heights, windows, trains, islands, suns)
 and checks what must hold for every frame: codes in range, no NaN anywhere,
@@ -7,16 +7,13 @@ classes consistent with the geometry, and determinism.
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
-from hypothesis import strategies as st
+from hypothesis import assume, given, HealthCheck, settings, strategies as st
 
 from sunset.model.camera import Camera
-from sunset.tape.codes import encode
+from sunset.pipeline.frame import encode, expose, render
 from sunset.constants import SEA, SKY
-from sunset.recorder.dicomed import expose
 from sunset.errors import SunsetError
 from sunset.model.islands import Cosine, Island, Paraboloid
-from sunset.vector.render import render
 from sunset.model.scene import Scene
 from sunset.model.sun import Sun
 from sunset.model.waves import Sea, WaveTrain
@@ -128,11 +125,12 @@ def test_bad_render_arguments(kw):
         render(Scene.default().with_size(8, 8), **{"t": 0.0, "reflections": 2, **kw})
 
 
-# -- many frames over both cores (render.code_frames, film.render_cycle) ----------------------
+# -- many frames over both cores (cycle.code_frames, film.render_cycle) ----------------------
 
 def test_frames_over_two_processes_are_byte_identical_to_one():
-    from sunset.recorder.film import render_cycle
-    from sunset.tape.cycle import code_frame, code_frames
+    from sunset.pipeline.film import render_cycle
+    from sunset.pipeline.cycle import code_frames
+    from sunset.pipeline.frame import code_frame
 
     scene = Scene.default().with_size(40, 32)
     times = [0.0, 0.7, 1.9, 3.3, 4.1]
@@ -152,7 +150,7 @@ def test_frames_over_two_processes_are_byte_identical_to_one():
 def test_a_warm_process_gives_every_frame_to_the_workers_with_the_same_bytes(monkeypatch):
     # a process that has not coded a frame of the kind renders the first itself (the forked workers inherit the
     # loaded kernels); once it has, every frame goes to the workers: the same bytes either way, in order
-    from sunset.tape import cycle
+    from sunset.pipeline import cycle
 
     scene = Scene.default().with_size(36, 30)
     times = [0.0, 0.9, 2.1, 3.0]
@@ -171,7 +169,7 @@ def test_a_warm_process_gives_every_frame_to_the_workers_with_the_same_bytes(mon
 
 
 def test_a_worker_hands_back_the_free_memory_it_inherited():
-    from sunset.tape.cycle import release_inherited_memory
+    from sunset.pipeline.cycle import release_inherited_memory
 
     assert release_inherited_memory() is True      # glibc's malloc_trim (the tests run on glibc)
 
@@ -180,8 +178,8 @@ def test_frame_workers(monkeypatch):
     import os
 
     import sunset.guard
-    import sunset.tape.cycle
-    from sunset.tape.cycle import frame_workers, usable_cpus
+    import sunset.pipeline.workers
+    from sunset.pipeline.workers import frame_workers, usable_cpus
 
     # never more than the usable CPUs, whatever --jobs or SUNSET_WORKERS say
     monkeypatch.delenv("SUNSET_WORKERS", raising=False)
@@ -189,7 +187,7 @@ def test_frame_workers(monkeypatch):
     monkeypatch.setenv("SUNSET_WORKERS", "1000000")
     assert frame_workers(None, 10**6) == len(os.sched_getaffinity(0))
     monkeypatch.setattr(sunset.guard, "usable_cpus", lambda: 8)
-    monkeypatch.setattr(sunset.tape.cycle, "usable_cpus", lambda: 8)
+    monkeypatch.setattr(sunset.pipeline.workers, "usable_cpus", lambda: 8)
     assert frame_workers(4, 3) == 3
     assert frame_workers(1, 10) == 1
     # by default every CPU the process may use (not capped at two), never more than the frames
@@ -205,9 +203,7 @@ def test_frame_workers(monkeypatch):
 
 def test_a_frame_without_the_sea_bounces_codes_the_same():
     # the 8-bit tape does not read Frame.incidence / Frame.sea_rays, so code_frame does not make them
-    from sunset.tape.codes import encode
-    from sunset.tape.cycle import code_frame
-    from sunset.vector.render import render
+    from sunset.pipeline.frame import code_frame, encode, render
 
     scene = Scene.default().with_size(80, 64)
     full = render(scene, 0.8, 2)

@@ -1,9 +1,9 @@
-"""A wave cycle's still part computed once (sunset/tape/still.py): each frame then traces and codes only its sea.
+"""A wave cycle's still part computed once (sunset/pipeline/cycle.py): each frame then traces and codes only its sea.
 
 The codes of a frame coded with a cycle pass must be the bytes of the whole
 vector stage (render, then encode) on the same kernel path, for every scene,
 reflection mode, seed and number of threads; and the compiled kernels of the
-sea-only path (direct.sea_geometry, still.encode_sea_rows) must agree with
+sea-only path (direct.sea_geometry, codes.encode_sea_rows) must agree with
 their NumPy references as tests/agree.py says.
 """
 
@@ -14,14 +14,13 @@ from sunset import kernels
 from sunset.constants import SEA, SKY
 from sunset.errors import SunsetError
 from sunset.model.islands import Island, Paraboloid
-from sunset.model.scene import Scene, as_scene
+from sunset.model.scene import as_scene, Scene
 from sunset.model.waves import Sea
-from sunset.tape import codes, still
-from sunset.tape.cycle import code_frame
+from sunset.pipeline.cycle import cycle_pass
+from sunset.tape import codes
+from sunset.pipeline.frame import code_frame, depth_buffer, encode, render, trace_direct, trace_reflections
 from sunset.vector import direct
 from sunset.vector.frame import Frame
-from sunset.vector.reflect import trace_reflections
-from sunset.vector.render import render
 
 from ..agree import assert_codes_agree
 
@@ -50,10 +49,10 @@ def test_a_cycle_pass_codes_the_bytes_of_the_whole_vector_stage(name, compiled):
     scene = scenes()[name]
     with kernels.use_compiled(compiled):
         for seed in (0, 7):
-            cp = still.cycle_pass(scene, seed)
+            cp = cycle_pass(scene, seed)
             for mode in (0, 1, 2):
                 for t in (0.0, 1.3):
-                    want = codes.encode(scene, render(scene, t, mode), seed=seed)
+                    want = encode(scene, render(scene, t, mode), seed=seed)
                     for n in (1, 2, 3):
                         with kernels.use_threads(n):
                             got = code_frame(scene, t, mode, seed, islands=cp)
@@ -66,8 +65,8 @@ def test_a_larger_frame_on_both_paths_and_threads():
     scene = Scene.default().with_size(300, 260)          # many strips of rows and of scan lines
     for compiled in (False, True):
         with kernels.use_compiled(compiled):
-            want = codes.encode(scene, render(scene, 0.4, 2), seed=3)
-            cp = still.cycle_pass(scene, 3)
+            want = encode(scene, render(scene, 0.4, 2), seed=3)
+            cp = cycle_pass(scene, 3)
             for n in (1, 2, 3):
                 with kernels.use_threads(n):
                     np.testing.assert_array_equal(code_frame(scene, 0.4, 2, 3, islands=cp), want)
@@ -75,12 +74,12 @@ def test_a_larger_frame_on_both_paths_and_threads():
 
 def test_the_still_codes_are_the_frames_codes_where_the_sea_does_not_reach():
     scene = Scene.default().with_size(120, 90)
-    cp = still.cycle_pass(scene, 5)
+    cp = cycle_pass(scene, 5)
     for t in (0.0, 2.2):
         frame = render(scene, t, 2)
         off = frame.surface != SEA
         assert off.any() and (frame.surface[off] >= 1).any() and (frame.surface[off] == SKY).any()
-        np.testing.assert_array_equal(cp.codes[off], codes.encode(scene, frame, seed=5)[off])
+        np.testing.assert_array_equal(cp.codes[off], encode(scene, frame, seed=5)[off])
         np.testing.assert_array_equal(cp.direction, frame.direction)
     assert cp.seed == 5                                  # each frame's dither: the seed's (codes.dither)
     # handed out read only: a frame cannot spoil the next one
@@ -91,7 +90,7 @@ def test_the_still_codes_are_the_frames_codes_where_the_sea_does_not_reach():
 
 def sea_strips(scene, t, cp, edges):
     """The strips direct.sea_strip makes for the rows cut at ``edges``, and the whole frame they make together."""
-    depth = direct.sea_depth(scene, t, cp.islands)
+    depth = depth_buffer(scene, t, islands=cp.islands)
     parts = [direct.sea_strip(scene, t, depth, cp.direction, r0, r1) for r0, r1 in zip(edges[:-1], edges[1:])]
     whole = Frame(t=t, reflections=0, direction=cp.direction, surface=np.concatenate([p.surface for p in parts]),
                   part=None, distance=None, point=np.concatenate([p.point for p in parts]),
@@ -104,9 +103,9 @@ def test_the_sea_pixels_direct_fields_are_trace_directs(compiled):
     scene = Scene.default().with_size(150, 110)
     H = scene.camera.height
     with kernels.use_compiled(compiled):
-        cp = still.cycle_pass(scene)
+        cp = cycle_pass(scene)
         for t in (0.0, 3.1):
-            full = direct.trace_direct(scene, t)
+            full = trace_direct(scene, t)
             for edges in ([0, H], [0, 40, H], [0, 1, 57, 58, H]):
                 parts, lean = sea_strips(scene, t, cp, edges)
                 np.testing.assert_array_equal(lean.surface, full.surface)
@@ -119,15 +118,15 @@ def test_the_sea_pixels_direct_fields_are_trace_directs(compiled):
                     np.testing.assert_array_equal(p.direction, cp.direction[r0:r0 + p.shape[0]])
 
 
-def depth_buffer(scene, t):
-    cp = still.cycle_pass(scene)
-    return direct._depth_buffer(scene, t, True, cp.islands, {"sea": 0.0, "islands": 0.0})
+def cycle_depth(scene, t):
+    cp = cycle_pass(scene)
+    return depth_buffer(scene, t, islands=cp.islands)
 
 
 @pytest.mark.parametrize("name", ["default", "storm-swell", "still sea"])
 def test_the_compiled_sea_geometry_agrees_with_the_numpy_one(name):
     scene = scenes()[name].with_size(131, 97)
-    best_u, best_surf, s_all, zeta, _ = depth_buffer(scene, 0.9)
+    best_u, best_surf, s_all, zeta = cycle_depth(scene, 0.9)
     W, H = best_u.shape
     rng = np.random.default_rng(5)
     edges = np.unique(np.concatenate([[0, H], rng.integers(1, H, 4)])).tolist()
@@ -136,7 +135,7 @@ def test_the_compiled_sea_geometry_agrees_with_the_numpy_one(name):
         surface = np.full((H, W), 99, np.int8)
         point = np.full((H, W, 3), 7.0, np.float32)
         normal = np.full((H, W, 3), 7.0, np.float32)
-        for r0, r1 in zip(edges[:-1], edges[1:]):        # strips of rows, as code_sea cuts them
+        for r0, r1 in zip(edges[:-1], edges[1:]):        # strips of rows, as code_frame cuts a cycle's frame
             k0, k1 = H - r1, H - r0
             fn(best_u[:, k0:k1], best_surf[:, k0:k1], s_all, zeta[k0:k1], scene.sea, 0.9, surface[r0:r1],
                point[r0:r1], normal[r0:r1])
@@ -165,24 +164,24 @@ def sea_frame(scene, t, mode, cp):
 @pytest.mark.parametrize("name", ["default", "archipelago-at-dusk", "near island"])
 def test_the_compiled_sea_codes_agree_with_the_numpy_ones(name):
     scene = scenes()[name]
-    cp = still.cycle_pass(scene, 11)
+    cp = cycle_pass(scene, 11)
     frame = sea_frame(scene, 0.8, 2, cp)
     H, W = frame.shape
     sun, cmap = scene.sun, codes.code_map(scene)
     rng = np.random.default_rng(9)
     edges = np.unique(np.concatenate([[0, H], rng.integers(1, H, 5)])).tolist()
     want = np.zeros((H, W), np.uint8)
-    still.encode_sea_rows.reference(want, frame, cp.codes, 11, 0, sun, cmap)
+    codes.encode_sea_rows.reference(want, frame, cp.codes, 11, 0, sun, cmap)
     got = np.zeros((H, W), np.uint8)
     for r0, r1 in zip(edges[:-1], edges[1:]):
-        still.encode_sea_rows.compiled()(got[r0:r1], frame.rows(r0, r1), cp.codes[r0:r1], 11, r0, sun, cmap)
+        codes.encode_sea_rows.compiled()(got[r0:r1], frame.rows(r0, r1), cp.codes[r0:r1], 11, r0, sun, cmap)
     sea = frame.surface == SEA
     np.testing.assert_array_equal(got[~sea], cp.codes[~sea])
     assert_codes_agree(scene, frame, frame, np.where(sea, want, 0), np.where(sea, got, 0), 11, name)
     # the reference cut into the same strips: the same bytes
     strips = np.zeros((H, W), np.uint8)
     for r0, r1 in zip(edges[:-1], edges[1:]):
-        still.encode_sea_rows.reference(strips[r0:r1], frame.rows(r0, r1), cp.codes[r0:r1], 11, r0, sun, cmap)
+        codes.encode_sea_rows.reference(strips[r0:r1], frame.rows(r0, r1), cp.codes[r0:r1], 11, r0, sun, cmap)
     np.testing.assert_array_equal(strips, want)
     sea = frame.surface == SEA
     assert sea.any() and (want[~sea] == cp.codes[~sea]).all()
@@ -191,7 +190,7 @@ def test_the_compiled_sea_codes_agree_with_the_numpy_ones(name):
 
 def test_an_unknown_island_part_on_the_sea_is_refused_on_both_paths():
     scene = scenes()["default"]
-    cp = still.cycle_pass(scene)
+    cp = cycle_pass(scene)
     frame = sea_frame(scene, 0.0, 2, cp)
     hit = (frame.surface == SEA) & (frame.final_surface >= 1)
     assert hit.any()
@@ -199,12 +198,12 @@ def test_an_unknown_island_part_on_the_sea_is_refused_on_both_paths():
     out = np.empty(frame.shape, np.uint8)
     for compiled in (False, True):
         with kernels.use_compiled(compiled), pytest.raises(SunsetError, match="got -3"):
-            still.encode_sea_rows(out, frame, cp.codes, 0, 0, scene.sun, codes.code_map(scene))
+            codes.encode_sea_rows(out, frame, cp.codes, 0, 0, scene.sun, codes.code_map(scene))
 
 
 def test_a_cycle_pass_is_for_its_scene_and_seed():
     scene = Scene.default().with_size(60, 40)
-    cp = still.cycle_pass(scene, 4)
+    cp = cycle_pass(scene, 4)
     for other, seed in ((scene, 5), (scene.with_size(61, 40), 4), (scenes()["no islands"].with_size(60, 40), 4)):
         with pytest.raises(SunsetError, match="another camera"):
             code_frame(other, 0.0, 2, seed, islands=cp)
@@ -217,8 +216,6 @@ def test_a_cycle_pass_is_for_its_scene_and_seed():
 @pytest.mark.parametrize("name", ["carlas-island-clouds", "post-in-the-swell"])
 def test_scenes_with_clouds_or_posts_are_coded_the_whole_way(name):
     scene = as_scene(name).with_size(80, 60)
-    cp = still.cycle_pass(scene, 2)
+    cp = cycle_pass(scene, 2)
     np.testing.assert_array_equal(code_frame(scene, 0.5, 2, 2, islands=cp),
-                                  codes.encode(scene, render(scene, 0.5, 2), seed=2))
-    with pytest.raises(SunsetError, match="clouds or posts"):
-        still.code_sea(scene, 0.5, 2, 2, cp)
+                                  encode(scene, render(scene, 0.5, 2), seed=2))

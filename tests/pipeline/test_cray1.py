@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from sunset import Scene
-from sunset.vector.cray1 import CLOCK_S, VECTOR_LENGTH, CrayCosts, Loop, count_frame
+from sunset.pipeline.cray1 import CLOCK_S, VECTOR_LENGTH, CrayCosts, Loop, count_frame
 from sunset.errors import SunsetError
 from sunset.vector.heightfield import sampling
-from sunset.vector.render import render
+from sunset.pipeline.frame import render
 
 SMALL = Scene.default().with_size(64, 60)
 
