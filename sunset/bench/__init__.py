@@ -52,7 +52,7 @@ from ..constants import CRAY1_SECONDS_FIGURE6
 from ..kernels import keep_freed_memory
 from . import explorer as explorer_bench, extra, memory as memory_bench, ocean as ocean_bench
 from .extra import timed
-from .frame import _frame_once, _measure_frame  # noqa: F401 (the frame's rows; the profile times the same frame)
+from .frame import _frame_once, _measure_frame, _measure_paths  # noqa: F401 (the frame's rows; the profile times the same frame)
 from . import ripples as ripples_bench
 from .profile import _function_name, _measure_profile  # noqa: F401 (the profile's row; tests use the name)
 from . import colour as colour_bench, rgb as rgb_bench, series as stokes_bench
@@ -168,7 +168,7 @@ def _measure_scaling(width: int, height: int, repeats: int) -> dict:
     return {"scaling": out}
 
 
-MEASUREMENTS = {"frame": _measure_frame, "brute": _measure_brute, "cycle": _measure_cycle,
+MEASUREMENTS = {"frame": _measure_frame, "paths": _measure_paths, "brute": _measure_brute, "cycle": _measure_cycle,
                 "scaling": _measure_scaling, "profile": _measure_profile, "rgb": rgb_bench.measure_rgb,
                 "memory": extra.measure_memory, "filmlook": extra.measure_film_look, "limits": extra.measure_limits,
                 "series": stokes_bench.measure_series, "explorer": explorer_bench.measure_explorer,
@@ -288,11 +288,19 @@ def run_benchmark(out: Path, repeats: int = REPEATS, brute_size: int = 96, cycle
     res = measure("frame", w, h, repeats, env={"NPY_DISABLE_CPU_FEATURES": "AVX512_ICL AVX512_SPR X86_V4 X86_V3"})
     for stage, times in res["times"].items():
         rows.append(_row(f"Figure 6 frame {w}x{h}, NumPy's SIMD off", stage, times, w * h, res))
+    for threads, label in ((None, ""), (1, ", one thread")):
+        log(f"Figure 6 frame at {w}x{h}, the 8-bit path and the API{label} ...")
+        res = measure("paths", w, h, repeats, threads=threads)
+        for stage, times in res["times"].items():
+            rows.append(_row(f"Figure 6 frame {w}x{h}, paths{label}", stage, times, w * h, res))
     if numpy_reference:
         log(f"Figure 6 frame at {w}x{h}, NumPy reference kernels only ...")
         res = measure("frame", w, h, repeats, numpy_only=True)
         for stage, times in res["times"].items():
             rows.append(_row(f"Figure 6 frame {w}x{h}, NumPy kernels", stage, times, w * h, res))
+        res = measure("paths", w, h, max(1, repeats // 2), numpy_only=True)
+        for stage, times in res["times"].items():
+            rows.append(_row(f"Figure 6 frame {w}x{h}, paths, NumPy kernels", stage, times, w * h, res))
     if rgb:
         w, h = frame_sizes[-1]
         log(f"RGB back end at {w}x{h} ...")

@@ -44,3 +44,37 @@ def _measure_frame(width: int, height: int, repeats: int) -> dict:
     _frame_once(scene)  # warm-up (and the compiled kernels' load)
     runs = [_frame_once(scene) for _ in range(repeats)]
     return {k: [r[k] for r in runs] for k in runs[0]}
+
+
+#: The two ways to a frame's picture that the "paths" rows time, in the order they run.
+PATHS = ("8-bit path", "API")
+
+
+def _paths_once(scene, t: float = 0.0) -> dict:
+    """One Figure 6 frame's picture two ways, one after the other: seconds of each.
+
+    ``8-bit path``: :func:`~sunset.pipeline.frame.code_frame` (the strips
+    traced and coded in one pass each, what the figures and the film run)
+    then :func:`~sunset.pipeline.frame.expose`; ``API``: the public
+    ``sunset.render`` → ``sunset.encode`` → ``sunset.expose``, the whole
+    :class:`~sunset.vector.frame.Frame` made on the way.
+    """
+    import sunset
+    from ..pipeline.frame import code_frame, expose
+
+    t0 = time.perf_counter()
+    expose(scene, code_frame(scene, t), 0.35)
+    t1 = time.perf_counter()
+    sunset.expose(scene, sunset.encode(scene, sunset.render(scene, t, 2)), 0.35)
+    t2 = time.perf_counter()
+    return {"8-bit path": t1 - t0, "API": t2 - t1}
+
+
+def _measure_paths(width: int, height: int, repeats: int) -> dict:
+    """Time a Figure 6 frame's picture by the 8-bit path and by the public API, in the same process."""
+    from ..model.scene import Scene
+
+    scene = Scene.default().with_size(width, height)
+    _paths_once(scene)  # warm-up (and the compiled kernels' load)
+    runs = [_paths_once(scene) for _ in range(repeats)]
+    return {k: [r[k] for r in runs] for k in PATHS}

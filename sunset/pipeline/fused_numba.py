@@ -60,7 +60,8 @@ def _sea_block(m, r0, W, ys, xs, s32, y32, flat, dirs, pnts, nrm, l, mm, c, lx, 
     """A block of ``m`` gathered sea pixels: their normals, their rays to the end of their path, their codes."""
     _normals_block(s32[:m], y32[:m], flat[:m], l, mm, c, lx, my, q, nq, th, sn, cs, acc, fx, fy, nrm)
     for j in range(m):
-        # the reflected ray R = D − 2(D·N)N, float64 from the float32 fields (reflect_numba.trace_strip)
+        # the reflected ray R = D − 2(D·N)N, float64 from the float32
+        # fields (as sunset.vector.reflect_numba.trace_strip)
         dx = np.float64(dirs[j, 0])
         dy = np.float64(dirs[j, 1])
         dz = np.float64(dirs[j, 2])
@@ -134,7 +135,8 @@ def _code_strip(best_u, best_surf, s_all, zeta, r0, r1, use_still, still, l, mm,
                     codes[row - r0, col] = still[row - r0, col]
                     continue
                 z = zeta[k]
-                length = math.sqrt(1.0 + s * s + z * z)         # the direction, as sunset.vector.direct_numba's
+                # the direction, as sunset.vector.direct_numba's
+                length = math.sqrt(1.0 + s * s + z * z)
                 inv = 1.0 / length
                 if sc == SEA:
                     yv = 1.0 / best_u[col, k]

@@ -45,7 +45,7 @@ def scenes():
 
 @pytest.mark.parametrize("name", list(scenes()))
 @pytest.mark.parametrize("compiled", [False, True])
-def test_a_cycle_pass_codes_the_bytes_of_the_whole_vector_stage(name, compiled):
+def test_a_cycle_pass_and_the_strips_code_the_bytes_of_the_whole_vector_stage(name, compiled):
     scene = scenes()[name]
     with kernels.use_compiled(compiled):
         for seed in (0, 7):
@@ -56,7 +56,10 @@ def test_a_cycle_pass_codes_the_bytes_of_the_whole_vector_stage(name, compiled):
                     for n in (1, 2, 3):
                         with kernels.use_threads(n):
                             got = code_frame(scene, t, mode, seed, islands=cp)
+                            # the whole frame strip by strip (compiled: the fused pass), no still part
+                            alone = code_frame(scene, t, mode, seed)
                         np.testing.assert_array_equal(got, want, err_msg=f"{name} seed {seed} mode {mode} t {t}")
+                        np.testing.assert_array_equal(alone, want, err_msg=f"{name} seed {seed} mode {mode} t {t}")
     frame = render(scene, 1.3, 2)
     assert (frame.surface == SEA).any() or name == "still-lake-at-noon"
 
