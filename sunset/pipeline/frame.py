@@ -302,8 +302,8 @@ def render(scene: SceneLike, t: float = 0.0, reflections: int = 2, *, islands: I
            sea_bounces: bool = True, work: Work | None = None) -> Frame:
     """Trace every pixel of ``scene`` at time ``t`` (seconds): the full :class:`Frame`.
 
-    Direct rays by the height-field scan line (:func:`trace_direct`), then
-    reflected rays (:func:`trace_reflections`), and, when the scene has a
+    Direct rays by the height-field scan line (``trace_direct`` in this
+    module), then reflected rays (``trace_reflections``), and, when the scene has a
     cloud layer or posts in the water, those seen directly and by reflection
     (:mod:`sunset.vector.clouds`, :mod:`sunset.vector.posts`).
 
@@ -319,7 +319,7 @@ def render(scene: SceneLike, t: float = 0.0, reflections: int = 2, *, islands: I
         reflections, the second off the crest ahead (Figure 6).
     islands : IslandPass, optional
         The islands' share of the direct rays, which does not change with
-        time (:func:`island_pass`): a wave cycle computes it once and passes
+        time (``island_pass`` in this module): a wave cycle computes it once and passes
         it to every frame.
     sea_bounces : bool
         Record each sea bounce (``Frame.incidence``, ``Frame.sea_rays``) for
