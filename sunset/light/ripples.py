@@ -203,17 +203,10 @@ def trace_ripples(scene, post_index: int = 0, t: float = 0.0, hours: float = 2.0
     if method == "beams":
         if cell is None:               # the default: RIPPLE_CELL, coarser where the patch would need more corners
             cell = max(RIPPLE_CELL, math.sqrt(receiver.area / RIPPLE_MESH))
-        require_finite("cell", cell)
-        n_a, n_b = _mesh(receiver.L, 2.0 * receiver.W, float(cell))
-        require_int_range("refine", refine, 0, MAX_REFINE)
-        books = trace_beams(receiver, n_a, n_b, levels=int(refine))
-        rays = (n_a + 1) * (n_b + 1)
+        books, rays = beams_on(receiver, receiver.L, 2.0 * receiver.W, cell, refine)
     else:
         require_int_range("rays", rays, 1, RIPPLE_MAX_RAYS)
-        h = RIPPLE_BANDWIDTH_TEXELS * dz if bandwidth is None else float(bandwidth)
-        require_finite("bandwidth", h)
-        if h < 0:
-            raise SunsetError(f"bandwidth must be positive or 0 (a histogram), got {h!r}")
+        h = photon_bandwidth(bandwidth, dz)
         dzb = zb_edges[1] - zb_edges[0]
 
         def splat(u, v, flux, shape):
@@ -231,6 +224,23 @@ def trace_ripples(scene, post_index: int = 0, t: float = 0.0, hours: float = 2.0
         z_below=0.5 * (zb_edges[1:] + zb_edges[:-1]), above=books.reflected / (post.radius * dphi * dz),
         below=books.refracted / (post.radius * dphi * (zb_edges[1] - zb_edges[0])), accounts=books.accounts,
         rays=int(rays), bandwidth=h, method=method, cell=float(cell) if method == "beams" else 0.0)
+
+
+def beams_on(receiver, length: float, width: float, cell, refine):
+    """(the beams' accounts, their corners) for a length × width patch of ``receiver`` in cells of ``cell`` metres."""
+    require_finite("cell", cell)
+    n_a, n_b = _mesh(length, width, float(cell))
+    require_int_range("refine", refine, 0, MAX_REFINE)
+    return trace_beams(receiver, n_a, n_b, levels=int(refine)), (n_a + 1) * (n_b + 1)
+
+
+def photon_bandwidth(bandwidth, texel: float) -> float:
+    """The photons' splat width, metres: ``bandwidth``, or RIPPLE_BANDWIDTH_TEXELS texels of ``texel`` metres."""
+    h = RIPPLE_BANDWIDTH_TEXELS * texel if bandwidth is None else float(bandwidth)
+    require_finite("bandwidth", h)
+    if h < 0:
+        raise SunsetError(f"bandwidth must be positive or 0 (a histogram), got {h!r}")
+    return h
 
 
 def _mesh(length: float, width: float, cell: float) -> tuple[int, int]:

@@ -72,15 +72,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import (RIPPLE_BANDWIDTH_TEXELS, RIPPLE_MAX_RAYS, RIPPLE_MAX_REACH, RIPPLE_SLOPE_SIGMAS,
+from ..constants import (RIPPLE_MAX_RAYS, RIPPLE_MAX_REACH, RIPPLE_SLOPE_SIGMAS,
                          SHORE_CELL, SHORE_INLAND, SHORE_MESH, SHORE_MIN_TEXELS, SHORE_TEXEL_CELLS,
                          SHORE_TEXEL_PIXELS, SHORE_TEXELS)
 from ..errors import SunsetError, require_finite, require_int_range
 from ..model.sky import spectral_data
 from ..vector.pierce import pierce_island, pierce_islands
-from .caustics import LIT, MAX_REFINE, Nodes, trace_beams, trace_photons
+from .caustics import LIT, Nodes, trace_photons
 from .postrays import rms_slope
-from .ripples import METHODS, _mesh, _splat, histogram
+from .ripples import METHODS, _splat, beams_on, histogram, photon_bandwidth
 from .sunrays import in_shadow, sea_table, sun_points
 from .water import absorption, scattering
 
@@ -353,20 +353,13 @@ def trace_shore(scene, island_index: int = 0, t: float = 0.0, hours: float = 2.0
     dw = w_edges[1] - w_edges[0]
     h = 0.0
     if method == "beams":
-        require_int_range("refine", refine, 0, MAX_REFINE)
         if cell is None:
             cell = max(SHORE_CELL, math.sqrt(receiver.area / SHORE_MESH), dw / SHORE_TEXEL_CELLS)
-        require_finite("cell", cell)
         arc = 2.0 * receiver.half * receiver.r_bar
-        n_a, n_b = _mesh(arc, receiver.w_in + receiver.L, float(cell))
-        books = trace_beams(receiver, n_a, n_b, levels=int(refine))
-        rays = (n_a + 1) * (n_b + 1)
+        books, rays = beams_on(receiver, arc, receiver.w_in + receiver.L, cell, refine)
     else:
         require_int_range("rays", rays, 1, RIPPLE_MAX_RAYS)
-        h = RIPPLE_BANDWIDTH_TEXELS * dw if bandwidth is None else float(bandwidth)
-        require_finite("bandwidth", h)
-        if h < 0:
-            raise SunsetError(f"bandwidth must be positive or 0 (a histogram), got {h!r}")
+        h = photon_bandwidth(bandwidth, dw)
 
         def splat(u, v, flux, shape):
             if h == 0:
