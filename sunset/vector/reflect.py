@@ -19,7 +19,9 @@ Reflection modes
     the islands or the sky (Figure 5; Figure 4 is this mode on still water).
 2
     Up to two reflections: secondary reflections off a parabolic cylinder
-    fitted to the crest ahead, gathered and scattered (Figure 6).
+    fitted to the crest ahead, gathered and scattered (Figure 6); on a wind
+    sea, off its tile's height field, the ray marched over it
+    (:mod:`sunset.vector.windsea_crests`).
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from ..kernels import twin
 from .crests import secondary_reflections
 from .frame import Frame
 from .pierce import gather, island_normal, pierce_islands, reflect, scatter
+from .windsea_crests import check_second_reflections, wind_secondary_reflections
 
 __all__ = ["trace_sea_rays", "record_bounces"]
 
@@ -53,8 +56,12 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     r1 = r.copy()
     bounces = np.ones(len(q), np.uint8)
     idx = ray2 = None
-    if reflections == 2:
+    if reflections == 2 and scene.sea.wind is not None:    # a wind sea: the ray marched over its tile
+        check_second_reflections(scene.sea, reflections)
+        idx, point, ray2 = wind_secondary_reflections(scene.sea, frame.t, q, r, h)
+    elif reflections == 2:
         idx, point, ray2 = secondary_reflections(scene.sea, frame.t, q, r)
+    if reflections == 2:
         scatter(idx, point, q)
         scatter(idx, ray2, r)
         scatter(idx, 2, bounces)

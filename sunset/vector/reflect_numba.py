@@ -466,6 +466,9 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     |R_z|, the islands, their normals at the hits and the frame's final
     fields, block by block of rays.
     """
+    if reflections == 2 and scene.sea.wind is not None:   # a wind sea's march: the reference's passes, compiled
+        from . import reflect as _reference                     # march (sunset.vector.windsea_crests_numba)
+        return _reference.trace_sea_rays.reference(scene, frame, reflections)
     do_second, second, table, normals, terms, h = reflect_constants(scene, frame.t, reflections)
     record = frame.incidence is not None
     inc, rays = (frame.incidence, frame.sea_rays) if record else _NO_RECORD
