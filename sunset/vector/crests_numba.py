@@ -10,7 +10,9 @@ For :func:`sunset.vector.reflect_numba.trace_sea_rays`, the twin of
   :func:`sunset.vector.pierce.first_entry`), the cosine of the reduced phase taken in
   the loop (float64 ``math.cos``, the C library's); :func:`crest_distance` is the two together;
 * :func:`sea_normal` is :meth:`sunset.model.waves.Sea.normal` at one point
-  (float64 sine and cosine, the harmonics by the angle-sum recurrence).
+  (float64 sine and cosine, :func:`sunset.vector.sincos_numba.sincos64`, the
+  harmonics by the angle-sum recurrence), :func:`sea_normals_into` the same
+  at a block of points, in loops the compiler vectorises.
 
 :func:`sunset.vector.reflect_numba.trace_strip` calls them on the sea pixels' rays.
 They agree with the NumPy reference within the tolerances of chapter 10 (tests).
@@ -24,6 +26,7 @@ import math
 import numpy as np
 
 from ..kernels import jit as _jit
+from .sincos_numba import sincos64, sincos64_into
 from .crests import CREST_GRACE, crest_curvature, largest_train
 
 
@@ -228,8 +231,7 @@ def sea_normal(x, y, waves, coef, count):
     for j in range(waves.shape[0]):
         l, m, omega_t, phase = waves[j, 0], waves[j, 1], waves[j, 2], waves[j, 3]
         theta = l * x + m * y - omega_t + phase
-        c1 = math.cos(theta)
-        s1 = math.sin(theta)
+        s1, c1 = sincos64(theta)
         cn = c1
         sn = s1
         slope = 0.0 - coef[j, 0] * sn
@@ -240,6 +242,48 @@ def sea_normal(x, y, waves, coef, count):
         fy = fy + m * slope
     zb = 1.0 / math.sqrt(fx * fx + fy * fy + 1.0)
     return -zb * fx, -zb * fy, zb
+
+
+@_jit
+def sea_normals_into(n, x, y, waves, coef, count, work, nx, ny, nz):
+    """:func:`sea_normal` at the ``n`` points (x[i], y[i]) into (nx, ny, nz)[:n], in loops over the points.
+
+    The same operations in the same order as :func:`sea_normal`, point by point
+    (the same bits), train by train over all the points: the phases, their sines
+    and cosines in one vectorised loop (:func:`sunset.vector.sincos_numba.sincos64_into`),
+    the harmonics, the slopes. ``work`` is (6, ≥ n) float64 scratch.
+    """
+    theta, s1, c1, cn, sn, slope = work[0, :n], work[1, :n], work[2, :n], work[3, :n], work[4, :n], work[5, :n]
+    for i in range(n):
+        nx[i] = 0.0
+        ny[i] = 0.0
+    for j in range(waves.shape[0]):
+        l, m, omega_t, phase = waves[j, 0], waves[j, 1], waves[j, 2], waves[j, 3]
+        for i in range(n):
+            theta[i] = l * x[i] + m * y[i] - omega_t + phase
+        sincos64_into(theta, s1, c1)
+        a0 = coef[j, 0]
+        for i in range(n):
+            cn[i] = c1[i]
+            sn[i] = s1[i]
+            slope[i] = 0.0 - a0 * s1[i]
+        for h in range(1, count[j]):
+            ah = coef[j, h]
+            for i in range(n):
+                cc, ss = cn[i] * c1[i] - sn[i] * s1[i], sn[i] * c1[i] + cn[i] * s1[i]
+                cn[i] = cc
+                sn[i] = ss
+                slope[i] = slope[i] - ah * ss
+        for i in range(n):
+            nx[i] = nx[i] + l * slope[i]
+            ny[i] = ny[i] + m * slope[i]
+    for i in range(n):
+        fx = nx[i]
+        fy = ny[i]
+        zb = 1.0 / math.sqrt(fx * fx + fy * fy + 1.0)
+        nx[i] = -zb * fx
+        ny[i] = -zb * fy
+        nz[i] = zb
 
 
 def second_bounce_constants(sea, t: float):

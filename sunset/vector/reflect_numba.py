@@ -31,8 +31,8 @@ import numpy as np
 
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..kernels import jit as _jit
-from .crests_numba import (_quadratic, crest_block, crest_constants, crest_distance, crest_entry, sea_normal,
-                           second_bounce_constants)
+from .crests_numba import (_quadratic, crest_block, crest_constants, crest_distance, crest_entry,
+                           sea_normals_into, second_bounce_constants)
 from .pierce import island_bounds
 from .frame import Frame
 
@@ -309,19 +309,27 @@ def bounce_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, 
     """
     if second:
         crest_block(m, qx, qy, qz, rx, ry, rz, crest, amps, psi, keep, scratch)
-    for j in range(m):
-        if not (second and keep[j]):
-            continue
-        t = crest_entry(qx[j], qy[j], qz[j], rx[j], ry[j], rz[j], psi[j], crest, amps)
-        if t < np.inf:
-            px = qx[j] + t * rx[j]
-            py = qy[j] + t * ry[j]
-            pz = qz[j] + t * rz[j]
-            mx, my, mz = sea_normal(px, py, waves, coef, count)
-            two = 2.0 * (rx[j] * mx + ry[j] * my + rz[j] * mz)
-            sx = rx[j] - two * mx
-            sy = ry[j] - two * my
-            sz = rz[j] - two * mz
+        # the candidates' crest hits, gathered; the sea's normals there in loops over the hits
+        hit = np.empty(m, np.int64)
+        work = np.empty((12, m))
+        px, py, pz, mx, my, mz = work[0], work[1], work[2], work[3], work[4], work[5]
+        nh = 0
+        for j in range(m):
+            if keep[j]:
+                t = crest_entry(qx[j], qy[j], qz[j], rx[j], ry[j], rz[j], psi[j], crest, amps)
+                if t < np.inf:
+                    hit[nh] = j
+                    px[nh] = qx[j] + t * rx[j]
+                    py[nh] = qy[j] + t * ry[j]
+                    pz[nh] = qz[j] + t * rz[j]
+                    nh += 1
+        sea_normals_into(nh, px, py, waves, coef, count, work[6:], mx, my, mz)
+        for k in range(nh):
+            j = hit[k]
+            two = 2.0 * (rx[j] * mx[k] + ry[j] * my[k] + rz[j] * mz[k])
+            sx = rx[j] - two * mx[k]
+            sy = ry[j] - two * my[k]
+            sz = rz[j] - two * mz[k]
             if record:
                 ex = sx - rx[j]
                 ey = sy - ry[j]
@@ -330,7 +338,7 @@ def bounce_block(m, ys, xs, qx, qy, qz, rx, ry, rz, bounces, second, keep, psi, 
                 sea_rays_out[ys[j], xs[j], 1, 0] = sx
                 sea_rays_out[ys[j], xs[j], 1, 1] = sy
                 sea_rays_out[ys[j], xs[j], 1, 2] = sz
-            qx[j], qy[j], qz[j] = px, py, pz
+            qx[j], qy[j], qz[j] = px[k], py[k], pz[k]
             rx[j], ry[j], rz[j] = sx, sy, sz
             bounces[j] = 2
     for j in range(m):

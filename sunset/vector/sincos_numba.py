@@ -41,6 +41,7 @@ from numba.extending import intrinsic
 from ..kernels import jit as _jit
 
 __all__ = ["LIMIT", "MAX_ULP", "fma32", "split", "parts", "cos_of", "sin_of", "cos32", "sin32", "cos_into",
+           "LIMIT64", "MAX_ULP64", "fma64", "split64", "parts64", "sincos64", "sincos64_into",
            "sincos_into"]
 
 _F = np.float32
@@ -188,3 +189,97 @@ def sincos_into(x, sin_out, cos_out):
             cos_out[i] = cos32(x[i])
     else:
         _sincos_loop(x, sin_out, cos_out)
+
+
+# --------------------------------------------------------------------------- float64
+
+#: |x| up to which :func:`sincos64` reduces the argument itself (the quotient q < 2²⁰, q·A exact).
+LIMIT64 = 2.0**20
+#: The largest error of :func:`sincos64` against the 64-bit-mantissa ``cosl`` and ``sinl`` up to
+#: :data:`LIMIT64`, float64 ulp at the true value (the tests hold it).
+MAX_ULP64 = 1.5
+
+
+def split64() -> tuple[float, float, float]:
+    """π/2 = A + B + C (to 2⁻¹³⁰): A with 33 significant bits (q·A exact for q < 2²⁰), B and C float64s."""
+    half = _PI / 2
+    a = _rounded(half, 33)
+    b = _rounded(half - Fraction(a), 53)
+    c = _rounded(half - Fraction(a) - Fraction(b), 53)
+    return a, b, c
+
+
+_A64, _B64, _C64 = (-v for v in split64())
+_TWO_OVER_PI64 = 2.0 / math.pi
+_RINT64 = 1.5 * 2.0**52
+#: Taylor coefficients 1/n! with alternating signs: cos up to r¹⁶, sin up to r¹⁷ (the next terms are below
+#: 3·10⁻¹⁸ on [−π/4, π/4]).
+_COS64 = tuple(float((-1) ** (k // 2) * Fraction(1, math.factorial(k))) for k in range(16, 0, -2))
+_SIN64 = tuple(float((-1) ** ((k - 1) // 2) * Fraction(1, math.factorial(k))) for k in range(17, 2, -2))
+
+
+@intrinsic
+def fma64(typingctx, a, b, c):
+    """a·b + c rounded once, float64 (LLVM's ``llvm.fma.f64``)."""
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        f64 = ir.DoubleType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
+        return builder.call(fn, args)
+    return sig, codegen
+
+
+@_jit
+def parts64(x):
+    """(quadrant q as int64, sin r, cos r) for a float64 x, |x| <= LIMIT64: x = q·π/2 + r, |r| <= π/4."""
+    q = fma64(x, _TWO_OVER_PI64, _RINT64) - _RINT64
+    r = fma64(q, _A64, x)
+    r = fma64(q, _B64, r)
+    r = fma64(q, _C64, r)
+    r2 = r * r
+    c = _COS64[0]
+    c = fma64(c, r2, _COS64[1])
+    c = fma64(c, r2, _COS64[2])
+    c = fma64(c, r2, _COS64[3])
+    c = fma64(c, r2, _COS64[4])
+    c = fma64(c, r2, _COS64[5])
+    c = fma64(c, r2, _COS64[6])
+    c = fma64(c, r2, _COS64[7])
+    c = fma64(c, r2, 1.0)
+    s = _SIN64[0]
+    s = fma64(s, r2, _SIN64[1])
+    s = fma64(s, r2, _SIN64[2])
+    s = fma64(s, r2, _SIN64[3])
+    s = fma64(s, r2, _SIN64[4])
+    s = fma64(s, r2, _SIN64[5])
+    s = fma64(s, r2, _SIN64[6])
+    s = fma64(s, r2, _SIN64[7])
+    s = fma64(s, r2 * r, r)
+    return np.int64(q), s, c
+
+
+@_jit
+def sincos64(x):
+    """(sin x, cos x) of one float64 x (the C library's ``sin`` and ``cos`` beyond :data:`LIMIT64`, ±∞, NaN)."""
+    if abs(x) <= LIMIT64:
+        q, s, c = parts64(x)
+        return sin_of(q, s, c), cos_of(q, s, c)
+    return math.sin(x), math.cos(x)
+
+
+@_jit
+def sincos64_into(x, sin_out, cos_out):
+    """sin and cos of the float64 x[i] into ``sin_out``, ``cos_out`` (not x), as :func:`sincos_into`: one loop
+    without a branch where every |x| is within :data:`LIMIT64`, else element by element (:func:`sincos64`)."""
+    rare = False
+    for i in range(x.shape[0]):
+        rare |= not abs(x[i]) <= LIMIT64
+    if rare:
+        for i in range(x.shape[0]):
+            sin_out[i], cos_out[i] = sincos64(x[i])
+    else:
+        for i in range(x.shape[0]):
+            q, s, c = parts64(x[i])
+            sin_out[i] = sin_of(q, s, c)
+            cos_out[i] = cos_of(q, s, c)

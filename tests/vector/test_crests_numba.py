@@ -255,3 +255,19 @@ def test_the_island_test_is_numpys():
         want = pierce.island_candidates(island, 2.0, q, r)
         np.testing.assert_array_equal(got[i], want)
         assert 0 < want.sum() < n
+
+
+@pytest.mark.parametrize("name", ["order 1", "order 4", "default"])
+def test_the_sea_normals_of_a_block_are_the_point_by_point_ones(name):
+    # the block form gathers the crest hits of a block of rays: the same bits as the scalar form
+    sea = seas()[name]
+    rng = np.random.default_rng(5)
+    n = 700
+    x, y = rng.uniform(-300, 300, n), rng.uniform(2, 3000, n)
+    waves, coef, count = crests_numba.sea_constants(sea, 3.5)
+    want = np.array([crests_numba.sea_normal(a, b, waves, coef, count) for a, b in zip(x, y)])
+    out = np.full((3, n + 5), -7.0)
+    crests_numba.sea_normals_into(n, x, y, waves, coef, count, np.empty((6, n + 5)), out[0], out[1], out[2])
+    np.testing.assert_array_equal(out[:, :n].T, want)
+    assert (out[:, n:] == -7.0).all()
+    np.testing.assert_allclose(want, sea.normal(x, y, 3.5), rtol=0, atol=NORMAL64_ATOL)

@@ -132,3 +132,55 @@ def test_the_ulp_measure_sees_a_two_ulp_error():
     bad = c.copy()
     bad[500] = np.nextafter(np.nextafter(bad[500], np.float32(2)), np.float32(2))
     assert ulp_error(bad, want).max() > S.MAX_ULP >= ulp_error(c, want).max()
+
+
+# --------------------------------------------------------------------------- float64
+
+def ulp64_error(got, want):
+    """|got − want| in float64 ulp at the true value ``want`` (long double, 64-bit mantissa on x86)."""
+    spacing = np.spacing(np.abs(want).astype(np.float64)).astype(np.longdouble)
+    return (np.abs(got.astype(np.longdouble) - want) / spacing).astype(np.float64)
+
+
+def ours64(x):
+    s, c = np.empty_like(x), np.empty_like(x)
+    S.sincos64_into(x, s, c)
+    return c, s
+
+
+@pytest.mark.skipif(np.finfo(np.longdouble).nmant < 63, reason="the reference needs an 80-bit long double")
+@pytest.mark.parametrize("top", [1.0, 10.0, 1e3, 3e4, S.LIMIT64])
+def test_float64_within_max_ulp_of_the_long_double_functions(top):
+    rng = np.random.default_rng(int(top) + 1)
+    k = np.unique(np.linspace(1, int(top / (math.pi / 2)) + 1, 5000).astype(np.int64))
+    near = np.array([float(kk * S._PI / 2) for kk in k])
+    x = np.concatenate([rng.uniform(-top, top, 200_000), near, np.nextafter(near, 0), np.nextafter(near, np.inf)])
+    x = x[np.abs(x) <= S.LIMIT64]
+    got_c, got_s = ours64(x)
+    xl = x.astype(np.longdouble)
+    err = max(ulp64_error(got_c, np.cos(xl)).max(), ulp64_error(got_s, np.sin(xl)).max())
+    assert err <= S.MAX_ULP64
+    # the measure sees a three-ulp error
+    bad = got_c.copy()
+    bad[7] = np.nextafter(np.nextafter(np.nextafter(bad[7], 2.0), 2.0), 2.0)
+    assert ulp64_error(bad, np.cos(xl)).max() > S.MAX_ULP64
+
+
+@pytest.mark.parametrize("odd", [2.0**21, -3e300, np.inf, np.nan])
+def test_float64_beyond_the_limit_is_the_c_library_and_scalar_agrees(odd):
+    x = np.linspace(-500, 500, 1001)
+    x[17] = odd
+    c, s = ours64(x)
+    assert np.array_equal(c[17], math.cos(odd) if np.isfinite(odd) else np.nan, equal_nan=True)
+    assert np.array_equal(s[17], math.sin(odd) if np.isfinite(odd) else np.nan, equal_nan=True)
+    c2, s2 = ours64(np.delete(x, 17))
+    np.testing.assert_array_equal(np.delete(c, 17), c2)
+    assert all(S.sincos64(v) == (sv, cv) for v, cv, sv in zip(x[20:300], c[20:300], s[20:300]))
+
+
+def test_the_float64_split_of_half_pi():
+    a, b, c = S.split64()
+    # A has 33 significant bits, so that q·A is exact for the quotients below LIMIT64 (q < 2²⁰)
+    assert (Fraction(a) * 2**32).denominator == 1 and S.LIMIT64 * 2 / math.pi < 2**20
+    err = abs(Fraction(a) + Fraction(b) + Fraction(c) - S._PI / 2)
+    assert err < Fraction(1, 2**125)
