@@ -34,7 +34,7 @@ def measure_rgb(width: int, height: int, repeats: int) -> dict:
     def four() -> tuple[float, float]:
         # trace_geometry(scene, 0.0, 2, 4), split: the vector stage at 2 x 2 rays per pixel, then the back end
         t0 = time.perf_counter()
-        frame = render(fine, 0.0, 2)
+        frame = render(fine, 0.0, 2, sea_bounces=True)
         t1 = time.perf_counter()
         shade_display(Geometry.from_frame(frame), light, 2)
         return t1 - t0, time.perf_counter() - t1

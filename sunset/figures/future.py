@@ -59,15 +59,15 @@ def clouds_rgb_figure(path, scene: Scene, t: float = 0.0) -> Path:
     """Write ``clouds-rgb.png``: the cloudy scene from the RGB back end at both :data:`CLOUD_HOURS`."""
     from . import shared
     from .paper import png_metadata
-    from ..pipeline.budget import check_rgb_work
+    from ..pipeline.budget import rgb_work
     from ..light.geometry import Geometry
     from ..light.lighting import Lighting
     from ..light.output import to_uint8
     from ..light.render import shade_display
 
     scene = cloudy(scene)
-    check_rgb_work(scene, 1)
-    geometry = Geometry.from_frame(shared.frame(scene, t, 2))    # traced once, shaded for each hour
+    work = rgb_work(scene, 1)                                   # the budget, once, passed to the frame
+    geometry = Geometry.from_frame(shared.frame(scene, t, 2, work))    # traced once, shaded for each hour
     a, b = (to_uint8(shade_display(geometry, Lighting.for_scene(scene, h))) for h in CLOUD_HOURS)
     settings = {"t": t, "reflections": 2, "shading": "rgb", "hours": list(CLOUD_HOURS), "figure": "clouds-rgb"}
     return save_png(path, _pair(a, b), png_metadata(scene, settings))

@@ -63,11 +63,15 @@ def _cached(kind: str, key: tuple):
     return None
 
 
-def frame(scene, t: float, reflections: int):
-    """:func:`sunset.pipeline.frame.render` of ``scene`` at ``t`` (the whole frame, with the sea's bounces)."""
+def frame(scene, t: float, reflections: int, work=None):
+    """:func:`sunset.pipeline.frame.render` of ``scene`` at ``t`` (the whole frame, with the sea's bounces).
+
+    ``work``: the frame's budget when the figure checked it already (:func:`sunset.pipeline.budget.rgb_work`).
+    """
     from ..pipeline.frame import render
 
-    return once("frame", (scene, float(t), int(reflections)), lambda: render(scene, float(t), int(reflections)))
+    return once("frame", (scene, float(t), int(reflections)),
+                lambda: render(scene, float(t), int(reflections), sea_bounces=True, work=work))
 
 
 def codes(scene, t: float, reflections: int, seed: int) -> np.ndarray:

@@ -113,7 +113,7 @@ class Geometry:
 
     @classmethod
     def from_frame(cls, frame, n: float = WATER_REFRACTIVE_INDEX) -> "Geometry":
-        """Build from a traced frame (after :func:`sunset.render`).
+        """Build from a traced frame that recorded the sea's bounces (``sunset.render(..., sea_bounces=True)``).
 
         The frame's rows are cut into strips (:func:`sunset.kernels.row_strips`)
         handed to the threads; each strip's paths are the kernel
@@ -122,8 +122,11 @@ class Geometry:
         for any number of threads. ``final_dir`` is the frame's ``ray`` array
         itself (a view, not a copy).
         """
-        if frame.final_surface is None or frame.incidence is None:
-            raise SunsetError("the frame has no reflected rays: render it with sunset.render first")
+        if frame.final_surface is None:
+            raise SunsetError("frame: it has no reflected rays: render it with sunset.render(..., sea_bounces=True)")
+        if frame.incidence is None:
+            raise SunsetError("frame: it has no sea bounces, which the RGB back end shades: render it with "
+                              "sunset.render(..., sea_bounces=True)")
         h, w = frame.shape
         npx = h * w
         flat = {name: getattr(frame, name).reshape((npx,) + getattr(frame, name).shape[2:])

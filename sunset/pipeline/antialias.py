@@ -75,7 +75,7 @@ def aa_errors(scene, t: float = 0.0, hours: float = 0.35, samples=(1, 4, 9, 16),
     """Render ``scene`` at each sample count and at ``reference`` samples; the errors at edges and the sun's rim."""
     light = Lighting.for_scene(scene, hours)
     kr = check_samples(reference)
-    ref_frame = render(supersampled(scene, kr), float(t), reflections)
+    ref_frame = render(supersampled(scene, kr), float(t), reflections, sea_bounces=True)
     ref_geom = Geometry.from_frame(ref_frame)
     ref = encode_srgb(shade_display(ref_geom, light, kr))
     edge, rim = edge_masks(ref_frame, ref_geom, light, kr)
@@ -85,7 +85,8 @@ def aa_errors(scene, t: float = 0.0, hours: float = 0.35, samples=(1, 4, 9, 16),
     everything = np.ones(edge.shape, bool)
     for s in samples:
         k = check_samples(s)
-        geom = Geometry.from_frame(render(supersampled(scene, k) if k > 1 else scene, float(t), reflections))
+        geom = Geometry.from_frame(render(supersampled(scene, k) if k > 1 else scene, float(t), reflections,
+                                          sea_bounces=True))
         img = encode_srgb(shade_display(geom, light, k))
         out.images[s] = img
         out.edge[s] = _rms(img, ref, edge)

@@ -16,9 +16,9 @@ from ..constants import INTERPRETER_BYTES, MAX_FRAME_BYTES, MAX_PIXELS
 from ..errors import SunsetError
 from ..light.budget import GEOMETRY_BYTES_PER_RAY, rgb_bytes
 from ..light.render import check_samples, supersampled
-from ..vector.budget import check_work
+from ..vector.budget import Work, check_work
 
-__all__ = ["check_rgb_work", "MAX_GEOMETRY_BYTES", "check_geometry_bytes", "workers_within_budget"]
+__all__ = ["check_rgb_work", "rgb_work", "MAX_GEOMETRY_BYTES", "check_geometry_bytes", "workers_within_budget"]
 
 #: Most bytes the stored geometries of one RGB film's wave cycle may take.
 MAX_GEOMETRY_BYTES = 3 * 2**30
@@ -33,6 +33,16 @@ def check_rgb_work(scene, samples: int = 1, frames: int = 0) -> int:
     supersampled frame's own work (samples of the sea, the islands, the clouds
     and the posts) is checked as any frame's (:func:`sunset.vector.budget.check_work`).
     """
+    return _checked(scene, samples, frames)[0]
+
+
+def rgb_work(scene, samples: int = 1, frames: int = 0) -> Work:
+    """:func:`check_rgb_work`'s checks, once where an RGB frame or film begins; the supersampled frame's
+    :class:`~sunset.vector.budget.Work`, which the pipeline passes down to every frame it traces."""
+    return _checked(scene, samples, frames)[1]
+
+
+def _checked(scene, samples: int, frames: int) -> tuple[int, Work]:
     k = check_samples(samples)
     cam = scene.camera
     W, H = cam.width, cam.height
@@ -49,13 +59,13 @@ def check_rgb_work(scene, samples: int = 1, frames: int = 0) -> int:
                           f"MiB of geometry and light (at most {MAX_FRAME_BYTES // 2**20:,} MiB): use fewer frames, "
                           f"fewer samples or a smaller picture")
     try:
-        check_work(supersampled(scene, k) if k > 1 else scene)
+        work = check_work(supersampled(scene, k) if k > 1 else scene)
     except SunsetError as exc:
         if k == 1:
             raise
         raise SunsetError(f"samples: {samples} samples per pixel trace the picture at {W * k}x{H * k}: "
                           f"{exc}") from None
-    return need
+    return need, work
 
 
 def check_geometry_bytes(scene, samples: int, frames: int) -> None:

@@ -299,7 +299,7 @@ def trace_reflections(scene, frame: Frame, reflections: int,
 
 
 def render(scene: SceneLike, t: float = 0.0, reflections: int = 2, *, islands: IslandPass | None = None,
-           sea_bounces: bool = True, work: Work | None = None) -> Frame:
+           sea_bounces: bool = False, work: Work | None = None) -> Frame:
     """Trace every pixel of ``scene`` at time ``t`` (seconds): the full :class:`Frame`.
 
     Direct rays by the height-field scan line (``trace_direct`` in this
@@ -322,15 +322,25 @@ def render(scene: SceneLike, t: float = 0.0, reflections: int = 2, *, islands: I
         time (``island_pass`` in this module): a wave cycle computes it once and passes
         it to every frame.
     sea_bounces : bool
-        Record each sea bounce (``Frame.incidence``, ``Frame.sea_rays``) for
-        the RGB back end; the 8-bit tape does without them (32 bytes a pixel).
+        Also record each sea bounce (``Frame.incidence``, ``Frame.sea_rays``),
+        which the RGB back end shades and the 8-bit tape does not read: 32
+        bytes a pixel more, and the time to write them. Off by default, so
+        that ``render`` → ``encode`` → ``expose`` makes what the tape needs;
+        the RGB back end (:mod:`sunset.pipeline.rgb`) and the diagnostics that
+        read the bounces ask for them.
     work : Work, optional
-        The frame's budget, checked already (:func:`sunset.vector.budget.check_work`).
+        The frame's budget, checked already (:func:`sunset.vector.budget.check_work`);
+        by default it is checked here.
 
     Returns
     -------
     Frame
-        Direct-ray and final-ray fields for every pixel.
+        For every pixel, the direct ray's fields (``direction``, ``surface``,
+        ``part``, ``distance``, ``point``, ``normal``) and the final ray's
+        (``bounces``, ``ray``, ``final_surface``, ``final_part``,
+        ``final_normal``); ``incidence`` and ``sea_rays`` only with
+        ``sea_bounces`` (else None). 69 bytes a pixel, 101 with the
+        bounces.
     """
     from ..vector.clouds import add_clouds, reflected_clouds
     from ..vector.posts import add_posts, reflected_posts

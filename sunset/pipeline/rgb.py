@@ -5,7 +5,8 @@
 keeps every ray's :class:`~sunset.light.geometry.Geometry` and shades it
 (:mod:`sunset.light.render`). The rays are the vector stage's full frame,
 with the sea's bounces (:func:`trace_geometry`); the budget is checked once,
-where a frame or a film begins (:func:`sunset.pipeline.budget.check_rgb_work`).
+where a frame or a film begins (:func:`sunset.pipeline.budget.rgb_work`), and
+its :class:`~sunset.vector.budget.Work` passed down to every frame traced.
 
 A film (:func:`trace_cycle`, :func:`film_frames`) traces one wave cycle once
 and re-shades it for every hour (:mod:`sunset.light.film`). What changes
@@ -22,29 +23,36 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..errors import SunsetError, require_finite, require_int_range, require_time
+from ..errors import SunsetError, require_finite, require_instance, require_int_range, require_time
 from ..light.film import film_frame
 from ..light.geometry import Geometry
 from ..light.glitter import Glitter
 from ..light.output import check_rgb_output, save_rgb
 from ..light.render import check_samples, frame_light, shade_display, shade_scene_linear, supersampled
-from .budget import check_geometry_bytes, check_rgb_work, workers_within_budget
+from ..vector.budget import Work
+from .budget import check_geometry_bytes, rgb_work, workers_within_budget
 from .frame import render
 from .workers import start_method
 
 __all__ = ["trace_geometry", "render_rgb", "write_rgb_frame", "trace_cycle", "film_frames"]
 
 
-def trace_geometry(scene, t: float = 0.0, reflections: int = 2, samples: int = 1, *, checked: bool = False) -> Geometry:
+def trace_geometry(scene, t: float = 0.0, reflections: int = 2, samples: int = 1, *,
+                   work: Work | None = None) -> Geometry:
     """The vector stage at ``samples`` rays per pixel, kept as a :class:`Geometry` (of the k× finer raster).
 
-    ``checked``: the caller has checked the budget already (a film, for all its frames).
+    ``work``: the budget of the supersampled frame, checked already where a
+    film began (:func:`sunset.pipeline.budget.rgb_work`, once for all its
+    frames); by default it is checked here, once, and passed down to the
+    vector stage (:func:`sunset.pipeline.frame.render`).
     """
     k = check_samples(samples)
     require_time("t", t)
-    if not checked:
-        check_rgb_work(scene, samples)                # before the picture is supersampled
-    frame = render(supersampled(scene, k) if k > 1 else scene, float(t), reflections)
+    if work is None:
+        work = rgb_work(scene, samples)                # before the picture is supersampled
+    else:
+        require_instance("work", work, Work)
+    frame = render(supersampled(scene, k) if k > 1 else scene, float(t), reflections, sea_bounces=True, work=work)
     geometry = Geometry.from_frame(frame)
     if scene.sea.wind is not None:       # the sun's glitter off the facets the tile cannot resolve
         geometry.glitter = Glitter.from_frame(frame, scene.sea.wind)
@@ -85,12 +93,12 @@ def trace_cycle(scene, times, reflections: int = 2, samples: int = 1, progress: 
     """The geometries of the frames at ``times`` (one wave cycle), each traced once."""
     require_int_range("reflections", reflections, 0, 2)
     check_samples(samples)
-    check_rgb_work(scene, samples, frames=len(times))
+    work = rgb_work(scene, samples, frames=len(times))     # the budget, once for the cycle
     check_geometry_bytes(scene, samples, len(times))
     out = []
     with _bar(len(times), "tracing the wave cycle", progress) as bar:
         for t in times:
-            out.append(trace_geometry(scene, float(t), reflections, samples, checked=True))
+            out.append(trace_geometry(scene, float(t), reflections, samples, work=work))
             bar.update(1)
     return out
 

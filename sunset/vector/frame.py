@@ -81,8 +81,9 @@ class Frame:
         the ``|R_z|`` of the reflection modes; NaN where there is no such bounce.
         With ``direction`` they give each bounce's normal,
         N_k ∝ R_k − I_k, I₁ = D, I₂ = R₁ (:mod:`sunset.light`).
-        ``incidence`` and ``sea_rays`` are None when the frame was rendered
-        without them (``render(..., sea_bounces=False)``: the 8-bit tape).
+        ``incidence`` and ``sea_rays`` are None unless the frame was rendered
+        with them (``render(..., sea_bounces=True)``, as the RGB back end asks;
+        the 8-bit tape does without them).
     """
 
     t: float

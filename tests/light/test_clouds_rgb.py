@@ -23,7 +23,7 @@ def cloudy():
 
 @pytest.fixture(scope="module")
 def frame(cloudy):
-    return render(cloudy, 0.0, 2)
+    return render(cloudy, 0.0, 2, sea_bounces=True)
 
 
 def test_geometry_keeps_the_depth_of_the_cloud_each_sky_ray_ends_on(frame):
@@ -70,7 +70,7 @@ def test_the_ripples_add_the_texture_times_the_direct_light_on_wood_only_on_the_
     e = texture_lookup(source.textures[0], post, points)
     extra = np.zeros_like(bare)
     extra[g.island_index] = e[:, None] * base.island_direct[2]
-    frame = render(scene, 0.0, 2)
+    frame = render(scene, 0.0, 2, sea_bounces=True)
     on = frame.surface.reshape(-1) == POST
     assert on.sum() > 100 and e.max() > 0
     np.testing.assert_allclose(lit[on], bare[on] + extra[on], rtol=1e-5, atol=1e-9)

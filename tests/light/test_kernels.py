@@ -25,7 +25,7 @@ from sunset.pipeline.frame import render
 @pytest.fixture(scope="module")
 def setup():
     scene = Scene.default().with_size(64, 56)
-    geometry = Geometry.from_frame(render(scene, 0.3, 2))
+    geometry = Geometry.from_frame(render(scene, 0.3, 2, sea_bounces=True))
     return scene, geometry
 
 
@@ -89,8 +89,9 @@ def _flat(frame):
 def frames():
     from sunset.model.scene import load_named_scene
 
-    out = [render(Scene.default().with_size(96, 80), 0.4, 2), render(Scene.default().with_size(72, 64), 1.3, 1)]
-    out.append(render(load_named_scene("post-in-the-swell").with_size(80, 72), 0.2, 2))
+    out = [render(Scene.default().with_size(96, 80), 0.4, 2, sea_bounces=True),
+           render(Scene.default().with_size(72, 64), 1.3, 1, sea_bounces=True)]
+    out.append(render(load_named_scene("post-in-the-swell").with_size(80, 72), 0.2, 2, sea_bounces=True))
     return out
 
 

@@ -26,7 +26,7 @@ def small():
 
 
 def test_frame_records_each_bounce(small):
-    f = sunset.render(small, 0.0, 2)
+    f = sunset.render(small, 0.0, 2, sea_bounces=True)
     sea = f.surface == SEA
     inc, rays = f.incidence, f.sea_rays
     assert inc.dtype == np.float32 and inc.shape == f.shape + (2,) and rays.shape == f.shape + (2, 3)
@@ -45,7 +45,7 @@ def test_frame_records_each_bounce(small):
 
 
 def test_the_new_fields_change_no_code(small):
-    f = sunset.render(small, 0.0, 2)
+    f = sunset.render(small, 0.0, 2, sea_bounces=True)
     codes = sunset.encode(small, f)
     f.incidence[:] = 0.123
     f.sea_rays[:] = np.nan
@@ -55,8 +55,8 @@ def test_the_new_fields_change_no_code(small):
 def test_compiled_and_numpy_paths_record_the_same_bounces(small):
     # within the vector stage's tolerances (tests/agree.py): the same bounces, their rays and cosines close
     with kernels.use_compiled(False):
-        a = sunset.render(small, 0.7, 2)
-    b = sunset.render(small, 0.7, 2)
+        a = sunset.render(small, 0.7, 2, sea_bounces=True)
+    b = sunset.render(small, 0.7, 2, sea_bounces=True)
     np.testing.assert_array_equal(np.isnan(a.incidence), np.isnan(b.incidence))
     assert_geometry_agrees(a, b)
 
@@ -70,7 +70,7 @@ def test_still_sea_is_a_mirror_computed_by_hand():
     """A still sea pixel: F(i) L_sky(R) + (1 − F)/n² (water), every term computed here from the models."""
     scene = Scene.default().still().with_size(40, 40)
     hours = 1.2
-    f = sunset.render(scene, 0.0, 1)
+    f = sunset.render(scene, 0.0, 1, sea_bounces=True)
     light = Lighting.for_hour(scene.sun, hours)
     xyz = shade(Geometry.from_frame(f), light)
     p = scene.sun.position(hours)
@@ -182,7 +182,7 @@ def test_posts_are_shaded_as_wood():
 
     scene = replace(load_named_scene("carlas-island").with_size(72, 64),
                     posts=(Post(x=-1.5, y=14.0, radius=0.25, top=2.5, depth=3.0),))
-    frame = sunset.render(scene, 0.3, 2)
+    frame = sunset.render(scene, 0.3, 2, sea_bounces=True)
     post = frame.final_surface == POST
     assert post.any()
     g = Geometry.from_frame(frame)

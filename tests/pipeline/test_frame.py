@@ -201,16 +201,42 @@ def test_frame_workers(monkeypatch):
         frame_workers(0, 5)
 
 
-def test_a_frame_without_the_sea_bounces_codes_the_same():
-    # the 8-bit tape does not read Frame.incidence / Frame.sea_rays, so code_frame does not make them
+def test_a_frame_records_the_sea_bounces_only_when_asked():
+    # the 8-bit tape does not read Frame.incidence / Frame.sea_rays: render makes them only on request
     from sunset.pipeline.frame import code_frame, encode, render
 
     scene = Scene.default().with_size(80, 64)
-    full = render(scene, 0.8, 2)
-    lean = render(scene, 0.8, 2, sea_bounces=False)
+    lean = render(scene, 0.8, 2)
+    full = render(scene, 0.8, 2, sea_bounces=True)
     assert full.incidence is not None and full.sea_rays is not None
     assert lean.incidence is None and lean.sea_rays is None
     for name in ("direction", "surface", "part", "distance", "point", "normal", "bounces", "ray", "final_surface",
                  "final_part", "final_normal"):
         np.testing.assert_array_equal(getattr(lean, name), getattr(full, name), err_msg=name)
     np.testing.assert_array_equal(code_frame(scene, 0.8, 2, seed=3), encode(scene, full, seed=3))
+    np.testing.assert_array_equal(encode(scene, lean, seed=3), encode(scene, full, seed=3))
+    # the first bounce, from the direct ray's own fields: cos i = -D.N and R1 = D - 2 (D.N) N
+    sea = full.surface == SEA
+    d, n = full.direction[sea].astype(float), full.normal[sea].astype(float)
+    dn = np.sum(d * n, axis=1)
+    np.testing.assert_allclose(full.incidence[sea, 0], -dn, atol=1e-6)
+    np.testing.assert_allclose(full.sea_rays[sea, 0], d - 2 * dn[:, None] * n, atol=1e-6)
+
+
+def test_the_rgb_back_end_asks_for_the_sea_bounces_and_gets_the_same_bytes():
+    # the RGB back end's rays: the same bytes as the stages called one by one with the bounces recorded
+    from sunset.light.geometry import Geometry
+    from sunset.light.render import frame_light, shade_display
+    from sunset.pipeline.frame import trace_direct, trace_reflections
+    from sunset.pipeline.rgb import render_rgb, trace_geometry
+
+    scene = Scene.default().with_size(72, 56)
+    explicit = Geometry.from_frame(trace_reflections(scene, trace_direct(scene, 0.6), 2, sea_bounces=True))
+    got = trace_geometry(scene, 0.6, 2)
+    for name, value in vars(explicit).items():
+        if isinstance(value, np.ndarray):
+            assert getattr(got, name).tobytes() == value.tobytes(), name
+    want = shade_display(explicit, frame_light(scene, 0.6, 0.35))
+    assert render_rgb(scene, 0.6, 0.35).tobytes() == want.tobytes()
+    with pytest.raises(SunsetError, match="sea_bounces=True"):
+        Geometry.from_frame(render(scene, 0.6, 2))               # the default frame: no bounces to shade
