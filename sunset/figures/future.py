@@ -120,9 +120,8 @@ def ripples_figure(path, seed: int = 0) -> Path:
     post = scene.posts[0]
     times, moving = ripple_textures(scene)
     _, (photons,) = ripple_textures(scene, times=times[:1], method="photons", seed=seed)
-    fig = Figure(figsize=(11.0, 4.9))
+    fig = Figure(figsize=(11.0, 4.9), layout="constrained")       # the colour bar hugs the panels
     axes = fig.subplots(1, 5, sharey=True)
-    fig.subplots_adjust(top=0.84)
     images = [unrolled(t, post) for t in moving + [photons]]
     top = max(float(np.percentile(img, 99.0)) for img, _ in images[:-1])
     titles = [f"beams,\nt = {t:.2f} s" for t in times] + [f"{photons.rays:,} photons,\nt = {times[0]:.2f} s"]
