@@ -62,6 +62,7 @@ import numpy as np
 from ..constants import (
     NEAR_PLANE_FRACTION, SEA,
 )
+from ..errors import SunsetError
 from ..kernels import twin
 
 _F32 = np.float32
@@ -254,8 +255,18 @@ def scan_convert(u, g, zeta0: float, dzeta: float, n_pixels: int):
 # the sea along scan lines: g(y) and the gradient in the paper's b_j, c_j form
 
 
+#: What the trains' kernels say of a wind sea (its scan line and slopes are sunset.vector.windsea_scan's).
+WIND_REFUSED = ("sea: a wind sea has no trains for this kernel: its scan line and slopes are "
+                "sunset.vector.windsea_scan's (wind_columns, wind_gradient_on_scanlines)")
+
+
 def _sea_terms(sea, s, t):
-    """Per train: (ℓ, m, b = ℓ s + m per scan line, c = φ − ω t mod 2π, harmonic amplitudes)."""
+    """Per train: (ℓ, m, b = ℓ s + m per scan line, c = φ − ω t mod 2π, harmonic amplitudes).
+
+    A wind sea has no trains: it is refused (:data:`WIND_REFUSED`), not drawn flat.
+    """
+    if sea.wind is not None:
+        raise SunsetError(WIND_REFUSED)
     out = []
     for train in sea.trains:
         if train.amplitude <= 0:

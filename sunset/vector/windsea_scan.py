@@ -26,8 +26,9 @@ it samples the short trains of Max's sea far away.
 
 The choppy option (λ > 0) moves the grid's points: the height at a scene
 point is found by carrying it back through the choppy map
-(:meth:`~sunset.model.ocean.OceanTile.sample`), in the reference kernel only
-(the compiled twin hands a choppy tile to it). Stokes' sharpening is a
+(:meth:`~sunset.model.ocean.OceanTile.sample`), in both kernels (the
+compiled twin takes the same fixed-point steps); a choppy sea has no second
+reflection (:mod:`sunset.vector.windsea_crests`). Stokes' sharpening is a
 train's, and is not applied to a wind sea.
 
 :func:`wind_columns` has a Numba twin (:mod:`sunset.vector.windsea_scan_numba`)

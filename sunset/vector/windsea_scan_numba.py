@@ -6,8 +6,11 @@ the same order, so the profile is the same numbers) and scan-converts it
 while it is in cache with the trains' compiled scan line
 (:func:`sunset.vector.heightfield_numba._scan_row_b` and ``_merge_row``): no
 (C, n) profile. :func:`wind_gradient_on_scanlines` interpolates the two
-gradient grids. A choppy tile (λ > 0) is handed to the reference kernels.
-Chosen by :mod:`sunset.kernels`.
+gradient grids. On a choppy tile (λ > 0) each point is first carried back
+through the choppy map with the reference's fixed-point steps
+(:func:`_choppy_origin`, :meth:`sunset.model.ocean.OceanTile.sample`'s
+arithmetic in its order), and the slope is (I + λ∇D)⁻ᵀ∇z there. Chosen by
+:mod:`sunset.kernels`.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import math
 import numpy as np
 
 from ..constants import SEA
+from ..model.ocean import CHOPPY_ITERATIONS
 from ..kernels import jit as _jit
 from . import windsea_scan as _reference
 from .heightfield import _F32
@@ -45,8 +49,21 @@ def _bilinear(grid, spacing, x, y):
 
 
 @_jit
+def _choppy_origin(dx, dy, spacing, lam, x, y, iterations):
+    """The point x₀ that the choppy map x₀ + λD(x₀) carries to (x, y): the reference's fixed-point steps."""
+    x0 = x
+    y0 = y
+    for _ in range(iterations):
+        ddx = _bilinear(dx, spacing, x0, y0)
+        ddy = _bilinear(dy, spacing, x0, y0)
+        x0 = x - lam * ddx
+        y0 = y - lam * ddy
+    return x0, y0
+
+
+@_jit
 def _wind_columns(z, spacing, s, y, u, h, zeta0, dzeta, inv_dz_t, zeta0_t, kf_t, zero_t, K, best_u, best_surf,
-                  code):
+                  code, dx, dy, lam, iterations):
     """Each scan line's profile from the grid, then its scan line, far tail and depth buffer."""
     N = y.shape[0]
     g = np.empty(N, _F32)
@@ -57,7 +74,10 @@ def _wind_columns(z, spacing, s, y, u, h, zeta0, dzeta, inv_dz_t, zeta0_t, kf_t,
     for col in range(s.shape[0]):
         sc = s[col]
         for i in range(N):
-            g[i] = np.float32((_bilinear(z, spacing, sc * y[i], y[i]) - h) * u[i])
+            x0, y0 = sc * y[i], y[i]
+            if lam > 0.0:
+                x0, y0 = _choppy_origin(dx, dy, spacing, lam, x0, y0, iterations)
+            g[i] = np.float32((_bilinear(z, spacing, x0, y0) - h) * u[i])
         _scan_row_b(u, 0, g, 0, N, zeta0, dzeta, inv_dz_t, zeta0_t, kf_t, zero_t, K, row, bins, first)
         n_tail += _merge_row(row, np.float64(g[N - 1]), u[N - 1], zeta0, dzeta, True, best_u[col], best_surf[col],
                              code, True)
@@ -69,13 +89,16 @@ def wind_columns(sea, s, u, h: float, t: float, zeta0: float, dzeta: float, n_pi
     tile = sea.wind.tile
     u = np.ascontiguousarray(u, dtype=np.float64)
     s = np.ascontiguousarray(s, dtype=np.float64)
-    if u.size == 0 or s.size == 0 or tile.choppiness > 0:
+    if u.size == 0 or s.size == 0:
         return _reference.wind_columns.reference(sea, s, u, h, t, zeta0, dzeta, n_pixels, best_u, best_surf)
-    z = tile.fields(t)["z"]
+    fields = tile.fields(t)
+    z = fields["z"]
+    dx, dy = (fields["dx"], fields["dy"]) if tile.choppiness > 0 else (z, z)
     bu, bs = np.ascontiguousarray(best_u), np.ascontiguousarray(best_surf)
     f = _F32
     tail = int(_wind_columns(z, tile.spacing, s, 1.0 / u, u, float(h), float(zeta0), float(dzeta), f(1.0 / dzeta),
-                             f(zeta0), f(n_pixels), f(0.0), int(n_pixels), bu, bs, SEA))
+                             f(zeta0), f(n_pixels), f(0.0), int(n_pixels), bu, bs, SEA, dx, dy,
+                             float(tile.choppiness), CHOPPY_ITERATIONS))
     if bu is not best_u:
         best_u[...] = bu
     if bs is not best_surf:
@@ -84,21 +107,34 @@ def wind_columns(sea, s, u, h: float, t: float, zeta0: float, dzeta: float, n_pi
 
 
 @_jit
-def _gradient(zx, zy, spacing, s, y, gx, gy):
+def _gradient(zx, zy, dx, dy, dxx, dxy, dyy, spacing, lam, iterations, s, y, gx, gy):
+    """(∂z/∂x, ∂z/∂y) at (s·y, y): the gradient grids bilinear; choppy (λ > 0): (I + λ∇D)⁻ᵀ∇z at x₀."""
     for i in range(s.shape[0]):
         x = s[i] * y[i]
-        gx[i] = np.float32(_bilinear(zx, spacing, x, y[i]))
-        gy[i] = np.float32(_bilinear(zy, spacing, x, y[i]))
+        if lam > 0.0:
+            x0, y0 = _choppy_origin(dx, dy, spacing, lam, x, y[i], iterations)
+            ax = _bilinear(zx, spacing, x0, y0)
+            ay = _bilinear(zy, spacing, x0, y0)
+            a = 1.0 + lam * _bilinear(dxx, spacing, x0, y0)
+            b = lam * _bilinear(dxy, spacing, x0, y0)
+            d = 1.0 + lam * _bilinear(dyy, spacing, x0, y0)
+            det = a * d - b * b
+            gx[i] = np.float32((d * ax - b * ay) / det)
+            gy[i] = np.float32((a * ay - b * ax) / det)
+        else:
+            gx[i] = np.float32(_bilinear(zx, spacing, x, y[i]))
+            gy[i] = np.float32(_bilinear(zy, spacing, x, y[i]))
 
 
 def wind_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     """:func:`sunset.vector.windsea_scan.wind_gradient_on_scanlines` compiled (the same numbers, float32)."""
     tile = sea.wind.tile
     s, y = np.broadcast_arrays(np.asarray(s, dtype=np.float64), np.asarray(y, dtype=np.float64))
-    if tile.choppiness > 0 or not (np.all(np.isfinite(s)) and np.all(np.isfinite(y))):
+    if not (np.all(np.isfinite(s)) and np.all(np.isfinite(y))):
         return _reference.wind_gradient_on_scanlines.reference(sea, s, y, t)
     f = tile.fields(t)
+    chop = [f[n] for n in ("dx", "dy", "dxx", "dxy", "dyy")] if tile.choppiness > 0 else [f["zx"]] * 5
     gx, gy = np.empty(s.shape, _F32), np.empty(s.shape, _F32)
-    _gradient(f["zx"], f["zy"], tile.spacing, np.ascontiguousarray(s).ravel(), np.ascontiguousarray(y).ravel(),
-              gx.reshape(-1), gy.reshape(-1))
+    _gradient(f["zx"], f["zy"], *chop, tile.spacing, float(tile.choppiness), CHOPPY_ITERATIONS,
+              np.ascontiguousarray(s).ravel(), np.ascontiguousarray(y).ravel(), gx.reshape(-1), gy.reshape(-1))
     return gx, gy

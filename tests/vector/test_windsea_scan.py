@@ -143,3 +143,66 @@ def test_every_time_bound_is_exact_for_one_component_and_bounds_a_cycle():
     assert sea.max_elevation == ws.tile.bound_every_time
     assert grid_max <= sea.max_elevation < min(3 * grid_max, ws.tile.bound_all_times)
     assert ws.make_tile(2).bound_every_time >= ws.make_tile(2).bound(3.0)
+
+
+@pytest.fixture(scope="module")
+def choppy():
+    return wind_scene(choppiness=0.8)
+
+
+def test_the_compiled_choppy_scan_line_and_slopes_agree_with_the_reference(choppy):
+    """λ > 0 on both paths: the same depth buffer (to AGREE_POINT) and the slopes to float32 roundings."""
+    sea, cam = choppy.sea, choppy.camera
+    u = sampling(cam, sea.max_elevation).u()
+    s = cam.s_centres()
+    zeta = cam.zy_centres()[::-1]
+    out = {}
+    for on in (False, True):
+        with use_compiled(on):
+            bu, bs = np.zeros((s.size, cam.height)), np.zeros((s.size, cam.height), np.int8)
+            tail = wind_columns(sea, s, u, cam.eye_height, 3.0, float(zeta[0]), cam.pixel_pitch[1], cam.height, bu, bs)
+            out[on] = (tail, bu, bs)
+    assert out[True][0] == out[False][0]
+    np.testing.assert_array_equal(out[True][2], out[False][2])
+    np.testing.assert_allclose(out[True][1], out[False][1], rtol=AGREE_POINT, atol=0)
+    rng = np.random.default_rng(4)
+    x, y = rng.uniform(-300, 300, 5000), rng.uniform(1, 600, 5000)
+    with use_compiled(False):
+        ref = wind_gradient_on_scanlines(sea, x / y, y, 3.0)
+    with use_compiled(True):
+        got = wind_gradient_on_scanlines(sea, x / y, y, 3.0)
+    for a, b in zip(ref, got):
+        np.testing.assert_allclose(b, a, rtol=1e-5, atol=1e-6)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_choppy_frame_moves_the_sea_and_meets_the_displaced_surface(scene, choppy, compiled):
+    """The choppy frame differs from λ = 0 on the sea, not above the horizon; its hits are the brute force's."""
+    with use_compiled(compiled):
+        flat, chop = trace_direct(scene, 2.0), trace_direct(choppy, 2.0)
+    sea = (flat.surface == SEA) & (chop.surface == SEA)
+    moved = np.abs(chop.distance[sea] / flat.distance[sea] - 1) > 1e-4
+    assert moved.mean() > 0.5
+    sky_rows = np.all(flat.surface != SEA, axis=1)
+    assert sky_rows.any()
+    np.testing.assert_array_equal(chop.surface[sky_rows], flat.surface[sky_rows])
+    brute = trace_direct_bruteforce(choppy, 2.0)           # marches sea.elevation: the choppy map inverted
+    c = compare(chop, brute)
+    assert c["agree"] >= 0.99 and c["n_sea"] > 1000, c
+    assert c["sea_median"] < 1e-4 and c["sea_normal_median"] < 0.1, c
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_wave_cycles_8bit_frame_of_a_wind_sea_has_the_tiles_normals(scene, compiled):
+    """A wave cycle's frame (code_frame with its cycle pass: direct.sea_geometry and its twin) against render and encode.
+
+    The compiled strip once took the trains' slopes of a wind sea (none: a flat mirror).
+    """
+    from sunset.pipeline.cycle import cycle_pass
+    from sunset.pipeline.frame import code_frame, encode, render
+
+    with use_compiled(compiled):
+        still = cycle_pass(scene)
+        codes = code_frame(scene, 2.0, 1, islands=still)
+        ref = encode(scene, render(scene, 2.0, 1, sea_bounces=False), 0)
+    assert np.mean(codes == ref) >= 0.99, np.mean(codes == ref)
