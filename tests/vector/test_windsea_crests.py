@@ -197,3 +197,20 @@ def test_the_rgb_back_end_bounces_twice_on_a_wind_sea(compiled):
     changed = np.any(two != one, axis=-1)
     assert twice.sum() > 0 and changed.any()
     assert not np.any(changed & ~twice)
+
+
+def test_the_command_line_refuses_a_choppy_seas_second_reflection_in_one_line(tmp_path, capsys):
+    """`sunset render` of a choppy wind sea: exit 2, one line naming the field, no picture left behind."""
+    from sunset.cli import main
+
+    from ..model.test_windsea import WIND_SCENE
+
+    path = tmp_path / "choppy.toml"
+    path.write_text(WIND_SCENE.replace("cycle = 64.0", "cycle = 64.0\nchoppiness = 0.5"), encoding="utf-8")
+    out = tmp_path / "out.png"
+    assert main(["render", str(path), "-q", "--size", "16x12", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "reflections: a choppy wind sea" in err[0], err
+    assert not out.exists()
+    assert main(["render", str(path), "-q", "--size", "16x12", "--reflections", "1", "-o", str(out)]) == 0
+    assert out.stat().st_size > 0
