@@ -40,7 +40,7 @@ from ..vector.direct_numba import island_constants, island_surface32
 from ..vector.reflect_numba import _island_normal, bounce_block, reflect_constants
 from ..vector.slopes_numba import _normals_block, _scratch, slope_terms
 
-__all__ = ["BLOCK", "TILE_COLUMNS", "code_strip"]
+__all__ = ["BLOCK", "TILE_COLUMNS", "code_strip", "frame_constants"]
 
 #: Sea rays per block: the block's directions, points, normals, phases and rays stay in a core's cache.
 BLOCK = 512
@@ -203,17 +203,40 @@ def _island_tables(islands) -> tuple:
 
 _NO_STILL = np.zeros((1, 1), np.uint8)
 
+#: The last frame's constants: (scene, code map, (t, sign of t, reflections), constants). A frame's strips
+#: all ask for the same; taking them again per strip (the islands' tables, hashing the scene) cost about as
+#: much as a strip of a cycle's frame.
+_LAST: list = [None]
+
+
+def frame_constants(scene, t: float, reflections: int, cmap) -> tuple:
+    """What :func:`_code_strip` needs of the scene at ``t`` besides the strip: the reflections'
+    (:func:`sunset.vector.reflect_numba.reflect_constants`), the islands' (:func:`_island_tables`), the
+    slopes' (:func:`sunset.vector.slopes_numba.slope_terms`) and the codes' (:func:`sunset.tape.codes_numba.code_constants`).
+
+    Kept for the last (scene, t, reflections, code map), the same objects (a scene is frozen): the strips
+    of a frame, on any thread, share them (they are only read).
+    """
+    key = (float(t), math.copysign(1.0, t), int(reflections))
+    last = _LAST[0]
+    if last is not None and last[0] is scene and last[1] is cmap and last[2] == key:
+        return last[3]
+    do_second, second, table, normals, nterms, h = reflect_constants(scene, float(t), reflections)
+    consts = ((do_second, *second, table, normals, nterms, h), _island_tables(scene.islands),
+              slope_terms(scene.sea, t), code_constants(scene.sun, cmap))
+    _LAST[0] = (scene, cmap, key, consts)
+    return consts
+
 
 def code_strip(scene, t: float, reflections: int, seed: int, depth, r0: int, r1: int, cmap, codes,
                still=None) -> None:
     """:func:`sunset.pipeline.frame.code_strip` in one compiled pass over the strip (:func:`_code_strip`)."""
     best_u, best_surf, s_all, zeta = depth
-    do_second, second, table, normals, nterms, h = reflect_constants(scene, float(t), reflections)
-    isl_c, isl_terms, isl_first = _island_tables(scene.islands)
+    bounce, (isl_c, isl_terms, isl_first), slopes, code_consts = frame_constants(scene, t, reflections, cmap)
     bad = _code_strip(best_u, best_surf, np.ascontiguousarray(s_all, np.float64),
                       np.ascontiguousarray(zeta, np.float64), int(r0), int(r1), still is not None,
-                      _NO_STILL if still is None else still.codes[r0:r1], *slope_terms(scene.sea, t), isl_c,
-                      isl_terms, isl_first, do_second, *second, table, normals, nterms, h, int(seed),
-                      *code_constants(scene.sun, cmap), codes, TILE_COLUMNS)
+                      _NO_STILL if still is None else still.codes[r0:r1], *slopes, isl_c,
+                      isl_terms, isl_first, *bounce, int(seed),
+                      *code_consts, codes, TILE_COLUMNS)
     if bad:
         raise SunsetError(f"frame.final_part must be 1 (beach), 2 (cliff) or 3 (hill) on islands, got {bad}")
