@@ -239,10 +239,15 @@ def test_the_ripples_rows_and_the_convergence_measure(monkeypatch):
     monkeypatch.setattr(ripples, "CONVERGENCE_PHOTONS", 16 * 4096)
     monkeypatch.setattr(ripples, "CONVERGENCE_CELLS", (0.2, 0.1))
     monkeypatch.setattr(ripples, "CONVERGENCE_TEXELS", 8)
+    monkeypatch.setattr(ripples, "NEAR_CELLS", (0.2, 0.1))
     res = ripples.measure_convergence()
-    assert res["photons"] == 16 * 4096 and res["cells"] == [0.2, 0.1]
-    for key in ("difference", "difference_refined", "beam_seconds", "beam_seconds_refined"):
+    assert res["photons"] == 16 * 4096 and res["cells"] == [0.2, 0.1] and res["near_cells"] == [0.2, 0.1]
+    for key in ("difference", "difference_refined", "beam_seconds", "beam_seconds_refined",
+                "beam_seconds_everywhere"):
         assert len(res[key]) == 2 and all(v > 0 for v in res[key])
+    for kind in ("", "_refined", "_everywhere", "_near"):
+        for norm in ("", "_l1"):
+            assert len(res[f"self_reflected{kind}{norm}"]) == 1 and res[f"self_refracted{kind}{norm}"][0] > 0
     for key in ("self_reflected", "self_refracted", "self_reflected_refined", "self_refracted_refined"):
         assert len(res[key]) == 1 and 0 < res[key][0] < 2
     # 4096 photons a part over 8 x ~60 texels: their noise is several per cent of the texture, and the beams
@@ -256,3 +261,17 @@ def test_the_ripples_book_data_command_refuses_bad_repeats(tmp_path, capsys):
     assert ripples_book.main(["--out", str(tmp_path / "d"), "--repeats", "0"]) == 2
     err = capsys.readouterr().err
     assert "repeats" in err and err.count("\n") == 1 and not (tmp_path / "d").exists()
+
+
+def test_the_self_orders_of_textures_whose_differences_fall_by_four():
+    """sunset.bench.ripples.self_orders: textures base + 4^-k bump differ from the next by a quarter as much each
+    time, order 2 in either norm (to the change of the finer texture's own norm, under 1e-3 here)."""
+    from sunset.bench.ripples import self_orders
+
+    rng = np.random.default_rng(4)
+    base, bump = 1.0 + rng.random((6, 5)), 1e-3 * rng.standard_normal((6, 5))
+    textures = [(base + 4.0 ** -k * bump, base - 2.0 ** -k * bump) for k in range(4)]
+    for which, order in ((0, 2.0), (1, 1.0)):
+        res = self_orders(textures, which)
+        assert len(res["L2"]) == 3 and res["L2_order"] == pytest.approx([order] * 2, abs=1e-2)
+        assert res["L1_order"] == pytest.approx([order] * 2, abs=1e-2)

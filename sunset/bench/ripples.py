@@ -8,11 +8,13 @@ computes), with its three shore textures (reflected light alone, at their
 finest) and without, and the light of a frame of the post in the swell (its
 post's texture as the film traces it); the bytes of each texture.
 ``measure_convergence`` (``python -m sunset.bench --measure
-ripples-convergence``, about two minutes): the beams against 10⁸ photons
+ripples-convergence``, about five minutes): the beams against 10⁸ photons
 counted in their texels, the photons in sixteen independent parts so that
 their own noise is measured beside the difference; and each mesh against the
 next finer one, reflected and refracted light, which has no noise to hide the
-beams' order of convergence.
+beams' order of convergence: on the whole texture, with beams halved at a
+glance or everywhere, and away from what keeps that order under 2
+(:class:`NearPost`).
 """
 
 from __future__ import annotations
@@ -23,7 +25,8 @@ import time
 import numpy as np
 
 __all__ = ["measure_ripples", "measure_convergence", "rows", "format_rows", "CONVERGENCE_PHOTONS",
-           "CONVERGENCE_CELLS"]
+           "CONVERGENCE_CELLS", "NearPost", "near_textures", "self_orders", "NEAR_REACH", "NEAR_LEAST_COSINE",
+           "NEAR_CELLS"]
 
 #: Photons of the convergence check (in independent parts, each within RIPPLE_MAX_RAYS) and the beams' cells set
 #: against them, metres.
@@ -34,6 +37,91 @@ CONVERGENCE_REFINE = 3
 CONVERGENCE_CELLS = (0.08, 0.04, 0.02, 0.01)
 #: Texels up the post in the convergence check.
 CONVERGENCE_TEXELS = 32
+#: The same check away from what keeps the order under 2 (:class:`NearPost`): water within NEAR_REACH metres of
+#: the post's axis, light meeting the post at a cosine of incidence of at least NEAR_LEAST_COSINE, in cells of
+#: NEAR_CELLS metres.
+NEAR_REACH = 4.0
+NEAR_LEAST_COSINE = 0.3
+NEAR_CELLS = (0.04, 0.02, 0.01, 0.005)
+
+
+class NearPost:
+    """A post's receiver (:class:`sunset.light.postrays.PostReceiver`) cut down to what a mesh of centimetres
+    resolves: its patch shortened to ``reach`` metres towards the sun (and narrowed in proportion), and the light
+    that would meet the post at a cosine of incidence under ``least`` booked as passing it.
+
+    Two things keep the full texture's order under 2 (chapter 13). At the post's silhouette the landing
+    azimuth moves as the square root of the distance to it, which a straight-edged beam cannot follow: the
+    error of the beams near it falls as h^1.5. And from far water the post is a small target: a ray's
+    sideways turn θ (twice the slope across, which changes within a quarter of a ripple) times the distance s
+    sweeps it across the post's width 2ρ within bands 2ρ/(s·|∇θ|) across, a few cells of centimetres, over
+    each of which the landing point sweeps the post's lit half: meshes of centimetres are not yet in the range
+    where the order shows. The status boundary ``least`` makes is a smooth curve on the water, which the
+    beams' cuts follow to O(h²).
+    """
+
+    def __init__(self, receiver, reach: float, least: float):
+        import copy
+
+        self.__dict__.update(copy.copy(receiver).__dict__)
+        self._receiver, self.least = receiver, float(least)
+        length = min(receiver.L, float(reach))
+        post = receiver.post
+        self.W = post.radius + (receiver.W - post.radius) * length / receiver.L
+        self.L = length
+        from ..light.postrays import GEOMETRY
+
+        self.geo = receiver.geo.copy()
+        for name in ("L", "W"):
+            self.geo[GEOMETRY.index(name)] = getattr(self, name)
+        for name in ("dark_names", "reflected_names", "refracted_names", "reflected_clipped", "refracted_clipped"):
+            setattr(self, name, getattr(type(receiver), name))
+
+    @property
+    def area(self) -> float:
+        return 2.0 * self.W * self.L
+
+    def evaluate(self, a, b):
+        from ..light.caustics import LIT
+        from ..light.postrays import PostReceiver
+
+        nodes = PostReceiver.evaluate(self, a, b)
+        drop = (nodes.status >= LIT) & (nodes.glance < self.least)
+        nodes.status = np.where(drop, LIT + 11, nodes.status)
+        for name in ("ur", "vr", "ut", "vt"):
+            getattr(nodes, name)[drop] = np.nan
+        nodes.path[drop], nodes.glance[drop] = 0.0, 1.0
+        return nodes
+
+
+def near_textures(scene, hours: float, cells, texels: int = CONVERGENCE_TEXELS, reach: float = NEAR_REACH,
+                  least: float = NEAR_LEAST_COSINE, t: float = 0.0) -> list:
+    """The (reflected, refracted mean over λ) textures of :class:`NearPost` of ``scene``'s first post, by beams of
+    each of ``cells`` metres (no refinement)."""
+    import math
+
+    from ..light.caustics import trace_beams
+    from ..light.postrays import PostReceiver
+
+    near = NearPost(PostReceiver(scene, 0, t, hours, texels), reach, least)
+    out = []
+    for cell in cells:
+        books = trace_beams(near, max(1, math.ceil(near.L / cell)), max(1, math.ceil(2 * near.W / cell)))
+        out.append((books.reflected, books.refracted.mean(axis=-1)))
+    return out
+
+
+def self_orders(textures, which: int) -> dict:
+    """Each texture against the next finer one (texture ``which`` of each pair): the rms (L2) and mean absolute
+    (L1) differences, relative to the finer texture's rms and mean, and the order of each halving."""
+    import math
+
+    out = {}
+    for norm, f in (("L2", lambda x: float(np.sqrt(np.mean(x ** 2)))), ("L1", lambda x: float(np.mean(np.abs(x))))):
+        e = [f(a[which] - b[which]) / f(b[which]) for a, b in zip(textures[:-1], textures[1:])]
+        out[norm] = e
+        out[norm + "_order"] = [math.log2(x / y) for x, y in zip(e[:-1], e[1:])]
+    return out
 
 
 def _runs(fn, repeats: int) -> list[float]:
@@ -91,8 +179,15 @@ def measure_ripples(width: int, height: int, repeats: int) -> dict:
 
 def measure_convergence(width: int = 0, height: int = 0, repeats: int = 1) -> dict:
     """The beams at :data:`CONVERGENCE_CELLS` against :data:`CONVERGENCE_PHOTONS` photons (a histogram), on the
-    post in the swell at the figure's hour: rms differences of the reflected texture, relative to its rms."""
+    post in the swell at the figure's hour: rms differences of the reflected texture, relative to its rms; and
+    each mesh against the next finer one (``self_*``, rms; ``*_l1``: mean absolute differences), plain, with
+    the glancing beams halved (``_refined``), with every landing beam halved (``_everywhere``), and on
+    :class:`NearPost` (``_near``, plain beams of :data:`NEAR_CELLS`)."""
+    import math
+
     from ..figures.future import RIPPLE_HOURS
+    from ..light.caustics import trace_beams
+    from ..light.postrays import PostReceiver
     from ..light.ripples import trace_ripples
     from ..model.scene import load_named_scene
 
@@ -121,9 +216,28 @@ def measure_convergence(width: int = 0, height: int = 0, repeats: int = 1) -> di
         # the beams against the next finer beams (no photon noise): reflected and refracted (mean over λ), each
         # relative to the finer texture's rms
         for j, name in enumerate(("reflected", "refracted")):
-            out[f"self_{name}{key}"] = [float(np.sqrt(np.mean((a[j] - b[j]) ** 2) / np.mean(b[j] ** 2)))
-                                        for a, b in zip(textures[:-1], textures[1:])]
+            orders = self_orders(textures, j)
+            out[f"self_{name}{key}"], out[f"self_{name}{key}_l1"] = orders["L2"], orders["L1"]
     out["refine"] = CONVERGENCE_REFINE
+    # the same halvings for every beam that lands, not only those at a glance: where the texture's error lives
+    receiver = PostReceiver(swell, 0, 0.0, RIPPLE_HOURS, CONVERGENCE_TEXELS)
+    textures, seconds = [], []
+    for cell in CONVERGENCE_CELLS:
+        start = time.process_time()
+        books = trace_beams(receiver, math.ceil(receiver.L / cell), math.ceil(2 * receiver.W / cell),
+                            levels=CONVERGENCE_REFINE, glance=2.0)
+        seconds.append(time.process_time() - start)
+        textures.append((books.reflected, books.refracted.mean(axis=-1)))
+    out["beam_seconds_everywhere"] = seconds
+    for j, name in enumerate(("reflected", "refracted")):
+        orders = self_orders(textures, j)
+        out[f"self_{name}_everywhere"], out[f"self_{name}_everywhere_l1"] = orders["L2"], orders["L1"]
+    # away from the silhouettes and the far water (NearPost), plain beams
+    near = near_textures(swell, RIPPLE_HOURS, NEAR_CELLS)
+    out.update(near_cells=list(NEAR_CELLS), near_reach=NEAR_REACH, near_least_cosine=NEAR_LEAST_COSINE)
+    for j, name in enumerate(("reflected", "refracted")):
+        orders = self_orders(near, j)
+        out[f"self_{name}_near"], out[f"self_{name}_near_l1"] = orders["L2"], orders["L1"]
     return out
 
 

@@ -210,16 +210,17 @@ def _split(receiver, nodes: Nodes, tri: np.ndarray, halvings: int):
 
 
 def _refine(receiver, nodes: Nodes, parts: np.ndarray, status: np.ndarray, tolerance: float, levels: int,
-            halvings: int):
+            halvings: int, glance: float = REFINE_COSINE):
     """Halve (into four) the parts that land at a glance while their landing is not linear enough.
 
-    A part is halved when one of its corners meets the receiver at a cosine under REFINE_COSINE and the middle
+    A part is halved when one of its corners meets the receiver at a cosine under ``glance`` (REFINE_COSINE;
+    above 1: every part that lands) and the middle
     of one of its edges lands farther from the middle of that edge's landing points than ``tolerance`` texels
     and than REFINE_RELATIVE of the part's landing size. A middle whose status is not the part's (the edge is a
     chord of a curved boundary: the silhouette) is replaced by the boundary's point on the way from the
     opposite corner to it (a cut), and the sliver between the chord and that point goes to the middle's status.
     """
-    todo = _lands(status) & (nodes.glance[parts].min(axis=1) < REFINE_COSINE)
+    todo = _lands(status) & (nodes.glance[parts].min(axis=1) < glance)
     shapes = (receiver.shape_reflected[1], receiver.shape_refracted[1])
     for _ in range(levels):
         sel = np.flatnonzero(todo)
@@ -290,7 +291,7 @@ def _refine(receiver, nodes: Nodes, parts: np.ndarray, status: np.ndarray, toler
         parts = np.concatenate([parts] + new_parts)
         status = np.concatenate([status] + new_status)
         todo = np.concatenate([todo] + new_todo)
-        todo &= nodes.glance[parts].min(axis=1) < REFINE_COSINE
+        todo &= nodes.glance[parts].min(axis=1) < glance
     return nodes, parts, status
 
 
@@ -348,13 +349,15 @@ def _unwrapped(u, n: int) -> np.ndarray:
 
 
 def trace_beams(receiver, n_a: int, n_b: int, tolerance: float = REFINE_TOLERANCE,
-                levels: int = REFINE_LEVELS) -> Books:
+                levels: int = REFINE_LEVELS, glance: float = REFINE_COSINE) -> Books:
     """Trace the mesh of n_a × n_b cells over ``receiver``'s patch, a block of rows at a time (module docstring).
 
     ``receiver`` gives ``evaluate(a, b) -> Nodes``, ``dark_names`` {code: account}, ``reflected_names`` and
     ``refracted_names`` {code: account} (code 0: onto the receiver), ``reflected_clipped`` and
     ``refracted_clipped`` (the accounts of light that lands beyond the texture's rows), ``shape_reflected``
     (n_v, n_u), ``shape_refracted`` (n_v, n_u, C) and ``attenuation`` (C,) the water's c(λ), m⁻¹.
+    ``levels`` halvings of the beams that land at a cosine of incidence under ``glance`` (above 1: of every beam
+    that lands) while they land farther than ``tolerance`` texels from straight (:func:`_refine`).
     """
     books = Books(np.zeros(receiver.shape_reflected), np.zeros(receiver.shape_refracted))
     rows = max(1, BLOCK_VERTICES // (n_b + 1))
@@ -370,7 +373,7 @@ def trace_beams(receiver, n_a: int, n_b: int, tolerance: float = REFINE_TOLERANC
         v10, v01, v11 = v00 + m, v00 + 1, v00 + m + 1
         tri = np.concatenate([np.stack([v00, v10, v11], axis=1), np.stack([v00, v11, v01], axis=1)])
         nodes, parts, status = _split(receiver, nodes, tri, halvings)
-        nodes, parts, status = _refine(receiver, nodes, parts, status, tolerance, levels, halvings)
+        nodes, parts, status = _refine(receiver, nodes, parts, status, tolerance, levels, halvings, glance)
         _books_of_parts(receiver, nodes, parts, status, books)
     return books
 
