@@ -57,7 +57,8 @@ def _paths_once(scene, t: float = 0.0) -> dict:
     traced and coded in one pass each, what the figures and the film run)
     then :func:`~sunset.pipeline.frame.expose`; ``API``: the public
     ``sunset.render`` → ``sunset.encode`` → ``sunset.expose``, the whole
-    :class:`~sunset.vector.frame.Frame` made on the way.
+    :class:`~sunset.vector.frame.Frame` made on the way (without the sea's
+    bounces, which ``render`` records only when asked).
     """
     import sunset
     from ..pipeline.frame import code_frame, expose
