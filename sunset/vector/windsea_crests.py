@@ -81,7 +81,8 @@ def march_constants(tile, t: float, h: float) -> tuple[float, float, float, floa
 
 
 def wind_march(tile, t: float, h: float, q, r) -> np.ndarray:
-    """Distance s along each ray Q + sR (N, 3; |R| = 1) to the wind sea's interpolated surface, +inf where none.
+    """Distance s along each ray Q + sR (N, 3; |R| = 1) to the wind sea's
+    interpolated surface, +inf where none.
 
     The march of the module's docstring, whole arrays at a time: each step
     is taken by every ray still above the sea.
