@@ -6,6 +6,9 @@
   (:func:`note_stop`, which :mod:`sunset.io` reads), so that a stop whose
   exception Python swallowed (in an at-fork hook or a destructor) still keeps
   every output from landing, and is reported once (:func:`check_stop`), not as an "Exception ignored" trace.
+  A process forked by the command inherits the handler: until it takes the
+  handler on (:func:`adopt_signals`) a stop signal ends it at once, so that
+  the exception can never unwind the parent's copied stack in the child.
 * :func:`one_line`: an error message as one short line.
 * :func:`silenced_stdout`: after standard output failed (``sunset scene >
   /dev/full``), Python's own flush at exit must not report it again.
@@ -26,7 +29,7 @@ import signal
 import sys
 
 __all__ = ["MAX_MESSAGE", "Interrupted", "signals_stop_the_command", "note_stop", "check_stop", "one_line",
-           "silenced_stdout", "config_fallback", "usable_cpus", "env_count", "check_environment", "COUNT_VARIABLES"]
+           "silenced_stdout", "config_fallback", "adopt_signals", "usable_cpus", "env_count", "check_environment", "COUNT_VARIABLES"]
 
 #: The longest error line the command prints, characters.
 MAX_MESSAGE = 400
@@ -56,9 +59,22 @@ def note_stop(exc: BaseException | None) -> None:
         _stop.append(exc)
 
 
+#: The process whose stop signals raise (the command's, or a forked one that adopted them); empty: any.
+_owner: list[int] = []
+
+
+def adopt_signals() -> None:
+    """In a process forked by the command, at the start of its own work: its stop signals raise here too."""
+    _owner[:] = [os.getpid()]
+
+
 def _on_signal(signum, frame):
     exc = KeyboardInterrupt() if signum == signal.SIGINT else Interrupted(signum)
     note_stop(exc)                       # should the exception be swallowed, no output lands all the same
+    if _owner and _owner[0] != os.getpid():
+        # a child forked a moment ago (before its own handlers or its target ran): raising here
+        # would unwind the parent's stack, copied by the fork, and run the parent's code twice
+        os._exit(128 + signum)
     raise exc
 
 
@@ -74,7 +90,9 @@ def signals_stop_the_command():
     import threading
 
     handlers = {}
+    owner = list(_owner)
     if threading.current_thread() is threading.main_thread():
+        adopt_signals()
         for sig in STOP_SIGNALS:
             handlers[sig] = signal.signal(sig, _on_signal)
     hook = sys.unraisablehook
@@ -90,6 +108,7 @@ def signals_stop_the_command():
         sys.unraisablehook = hook
         for sig, old in handlers.items():
             signal.signal(sig, old)
+        _owner[:] = owner
         note_stop(None)
 
 

@@ -32,6 +32,7 @@ import sys
 import time
 
 from ..errors import SunsetError
+from ..guard import adopt_signals
 
 __all__ = ["UNITS", "plan", "Queue", "SideLane"]
 
@@ -122,6 +123,7 @@ class SideLane:
     def _run(self, conn) -> None:                        # in the forked process
         import traceback
 
+        adopt_signals()                                  # a stop from here on is reported to the parent
         try:
             done = []
             k = 0
