@@ -80,7 +80,8 @@ def test_the_slopes_are_the_spectrums_gradient_within_its_stated_error(scene):
     assert np.ptp(gx) > 0
 
 
-def test_the_compiled_scan_line_agrees_with_the_reference(scene):
+def _scan_on_both_paths(scene) -> dict:
+    """{compiled?: (tail, depth, surfaces)} of the scene's wind scan line at t = 3 s on each path."""
     sea, cam = scene.sea, scene.camera
     u = sampling(cam, sea.max_elevation).u()
     s = cam.s_centres()
@@ -91,6 +92,11 @@ def test_the_compiled_scan_line_agrees_with_the_reference(scene):
             bu, bs = np.zeros((s.size, cam.height)), np.zeros((s.size, cam.height), np.int8)
             tail = wind_columns(sea, s, u, cam.eye_height, 3.0, float(zeta[0]), cam.pixel_pitch[1], cam.height, bu, bs)
             out[on] = (tail, bu, bs)
+    return out
+
+
+def test_the_compiled_scan_line_agrees_with_the_reference(scene):
+    out = _scan_on_both_paths(scene)
     assert out[True][0] == out[False][0]
     np.testing.assert_array_equal(out[True][2], out[False][2])
     assert (out[True][2] == SEA).mean() > 0.5
@@ -152,16 +158,8 @@ def choppy():
 
 def test_the_compiled_choppy_scan_line_and_slopes_agree_with_the_reference(choppy):
     """λ > 0 on both paths: the same depth buffer (to AGREE_POINT) and the slopes to float32 roundings."""
-    sea, cam = choppy.sea, choppy.camera
-    u = sampling(cam, sea.max_elevation).u()
-    s = cam.s_centres()
-    zeta = cam.zy_centres()[::-1]
-    out = {}
-    for on in (False, True):
-        with use_compiled(on):
-            bu, bs = np.zeros((s.size, cam.height)), np.zeros((s.size, cam.height), np.int8)
-            tail = wind_columns(sea, s, u, cam.eye_height, 3.0, float(zeta[0]), cam.pixel_pitch[1], cam.height, bu, bs)
-            out[on] = (tail, bu, bs)
+    sea = choppy.sea
+    out = _scan_on_both_paths(choppy)
     assert out[True][0] == out[False][0]
     np.testing.assert_array_equal(out[True][2], out[False][2])
     np.testing.assert_allclose(out[True][1], out[False][1], rtol=AGREE_POINT, atol=0)
