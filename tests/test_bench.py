@@ -137,6 +137,17 @@ def test_bad_arguments_are_one_line_errors(capsys):
     assert bench.main(["--repeats", "0"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "repeats" in err
+    for row, field, value in (("paths", "--width", "-5"), ("cycle", "--height", "0"), ("frame", "--width", "1000000000")):
+        assert bench.main(["--measure", row, field, value]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and field.strip("-") in err and "Traceback" not in err, err
+
+
+def test_a_row_timed_alone_is_listed_in_the_help(capsys):
+    with pytest.raises(SystemExit):
+        bench.main(["--help"])
+    out = capsys.readouterr().out
+    assert "--measure ROW" in out and "paths" in out and "cycle" in out
 
 
 def test_memory_film_look_povray_and_load_are_reported(report):

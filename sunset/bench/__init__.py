@@ -49,6 +49,8 @@ from dataclasses import replace
 from pathlib import Path
 
 from ..constants import CRAY1_SECONDS_FIGURE6
+from ..errors import SunsetError
+from ..guard import one_line
 from ..kernels import keep_freed_memory
 from . import explorer as explorer_bench, extra, memory as memory_bench, ocean as ocean_bench
 from .extra import timed
@@ -62,6 +64,9 @@ REPEATS = 5
 
 #: The picture sizes of the Figure 6 frame: the paper's and a power of two.
 FRAME_SIZES = ((1020, 1023), (1024, 1024))
+
+#: The picture's width and height of a row timed alone (``--measure``) when none is given.
+MEASURE_SIZE = 1024
 
 #: Stages of one frame, in pipeline order (names as they appear in the table and the JSON).
 STAGES = ("sea scan line", "islands", "points & normals", "reflections", "codes", "film recorder")
@@ -426,9 +431,10 @@ def main(argv=None) -> int:
     p.add_argument("--no-cycle", action="store_true")
     p.add_argument("--no-povray", action="store_true", help="do not time POV-Ray even where it is installed")
     p.add_argument("--no-figures", action="store_true", help="do not time `sunset figures` (what make figures runs)")
-    p.add_argument("--measure", choices=list(MEASUREMENTS), help=argparse.SUPPRESS)
-    p.add_argument("--width", type=int, help=argparse.SUPPRESS)
-    p.add_argument("--height", type=int, help=argparse.SUPPRESS)
+    p.add_argument("--measure", choices=list(MEASUREMENTS), metavar="ROW",
+                   help="time one row only, in this process, and print its JSON (rows: %(choices)s)")
+    p.add_argument("--width", type=int, default=MEASURE_SIZE, help="with --measure: picture width, pixels")
+    p.add_argument("--height", type=int, default=MEASURE_SIZE, help="with --measure: picture height, pixels")
     p.add_argument("--cycle-frames", type=int, default=CYCLE_FRAMES, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     keep_freed_memory()          # as the sunset command does: freed frames' blocks are reused, not re-faulted
@@ -436,11 +442,15 @@ def main(argv=None) -> int:
         print("sunset.bench: error: --repeats and --brute-size must be at least 1", file=sys.stderr)
         return 2
     if args.measure:
-        if args.measure == "cycle":
-            result = _measure_cycle(args.width, args.height, args.repeats, args.cycle_frames)
-            print(json.dumps({"times": result, **_peak()}))
-        else:
-            _child(args)
+        try:
+            if args.measure == "cycle":
+                result = _measure_cycle(args.width, args.height, args.repeats, args.cycle_frames)
+                print(json.dumps({"times": result, **_peak()}))
+            else:
+                _child(args)
+        except SunsetError as exc:                   # a size or count out of range: one line, as the command's
+            print(f"sunset.bench: error: {one_line(exc)}", file=sys.stderr)
+            return 2
         return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     report = run_benchmark(args.out, args.repeats, args.brute_size, cycle=not args.no_cycle,
