@@ -52,6 +52,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import require_int_range, require_range
 from .raster import rasterise
 
 __all__ = ["Nodes", "Books", "trace_beams", "trace_photons", "CUTS", "REFINE_TOLERANCE", "REFINE_LEVELS",
@@ -71,6 +72,9 @@ REFINE_RELATIVE = 0.0
 REFINE_LEVELS = 0
 #: The most halvings a caller may ask for.
 MAX_REFINE = 6
+#: The largest tolerance (texels) and glance (a cosine; above 1: every beam that lands) a caller may ask for.
+MAX_TOLERANCE = 1.0e3
+MAX_GLANCE = 2.0
 #: Parts rasterised at once (the refracted light's (parts, 3, wavelengths) attenuations stay small).
 CHUNK = 1 << 14
 #: Vertices traced at once (the mesh is traced in blocks of rows: memory stays bounded).
@@ -357,8 +361,15 @@ def trace_beams(receiver, n_a: int, n_b: int, tolerance: float = REFINE_TOLERANC
     ``refracted_clipped`` (the accounts of light that lands beyond the texture's rows), ``shape_reflected``
     (n_v, n_u), ``shape_refracted`` (n_v, n_u, C) and ``attenuation`` (C,) the water's c(λ), m⁻¹.
     ``levels`` halvings of the beams that land at a cosine of incidence under ``glance`` (above 1: of every beam
-    that lands) while they land farther than ``tolerance`` texels from straight (:func:`_refine`).
+    that lands) while they land farther than ``tolerance`` texels from straight (:func:`_refine`). An argument
+    out of range (cells under 1; ``levels`` outside 0..MAX_REFINE; ``tolerance`` not in (0, MAX_TOLERANCE];
+    ``glance`` not in [0, MAX_GLANCE]) is one :class:`~sunset.errors.SunsetError` naming it.
     """
+    require_int_range("n_a", n_a, 1)
+    require_int_range("n_b", n_b, 1)
+    require_int_range("levels", levels, 0, MAX_REFINE)
+    require_range("tolerance", tolerance, 0.0, MAX_TOLERANCE, "texels", lo_open=True)
+    require_range("glance", glance, 0.0, MAX_GLANCE)
     books = Books(np.zeros(receiver.shape_reflected), np.zeros(receiver.shape_refracted))
     rows = max(1, BLOCK_VERTICES // (n_b + 1))
     halvings = CUTS + int(np.ceil(np.log2(max(n_a, n_b))))

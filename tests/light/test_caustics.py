@@ -142,3 +142,20 @@ def test_a_beam_across_a_boundary_is_cut_where_the_status_changes():
         assert books.reflected.sum() == pytest.approx(acc["on"], rel=1e-12)
         assert sum(v for k, v in acc.items() if k != "in") == pytest.approx(1.0, rel=1e-12)
     assert caustics.CUTS >= 2
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(n_a=0), "n_a"), (dict(n_b=2.5), "n_b"), (dict(levels=-1), "levels"),
+    (dict(levels=caustics.MAX_REFINE + 1), "levels"), (dict(levels=True), "levels"), (dict(tolerance=0.0), "tolerance"),
+    (dict(tolerance=float("nan")), "tolerance"), (dict(tolerance=2e3), "tolerance"), (dict(glance=-0.1), "glance"),
+    (dict(glance=float("inf")), "glance"), (dict(glance="all"), "glance"),
+])
+def test_trace_beams_names_an_argument_out_of_range(kwargs, word):
+    from sunset.errors import SunsetError
+
+    args = dict(n_a=4, n_b=4)
+    args.update(kwargs)
+    with pytest.raises(SunsetError, match=word) as info:
+        trace_beams(Strip(), **args)
+    assert "\n" not in str(info.value)
+    trace_beams(Strip(), 4, 4, tolerance=caustics.MAX_TOLERANCE, levels=caustics.MAX_REFINE, glance=0.0)
