@@ -200,7 +200,7 @@ def test_every_image_the_package_saves_goes_through_a_recording_writer():
 
 
 # --------------------------------------------------------------------------- the path that ran: nothing silent
-def _run(tmp_path, env_extra, code=None, rgb=False, pythonpath=None):
+def _run(tmp_path, env_extra, code=None, rgb=False, pythonpath=None, scene="carlas-island"):
     """A fresh ``sunset render`` (or ``code``) with ``env_extra``; returns (stderr lines, the PNG's provenance)."""
     import os
     import subprocess
@@ -211,7 +211,7 @@ def _run(tmp_path, env_extra, code=None, rgb=False, pythonpath=None):
     if pythonpath:
         env["PYTHONPATH"] = os.pathsep.join([str(pythonpath)] + [p for p in [env.get("PYTHONPATH")] if p])
     out = tmp_path / "a.png"
-    argv = ["render", "carlas-island", "--size", "24x16", "-o", str(out), "-q"] + (["--shading", "rgb"] if rgb else [])
+    argv = ["render", scene, "--size", "24x16", "-o", str(out), "-q"] + (["--shading", "rgb"] if rgb else [])
     prog = (code or "") + f"\nimport sys\nfrom sunset.cli import main\nsys.exit(main({argv!r}))\n"
     run = subprocess.run([sys.executable, "-c", prog], env=env, capture_output=True, text=True, timeout=600,
                          cwd=tmp_path)
@@ -256,6 +256,21 @@ def test_a_kernel_that_does_not_compile_is_said_once_and_recorded(tmp_path):
     assert err[0].startswith("sunset: the compiled kernels of light.kernel could not be compiled (TypingError")
     assert made == "mixed: compiled, numpy for light.kernel (compilation failed: TypingError)"
     assert info == "compiled"        # another process: nothing failed there (a failure is found when first used)
+
+
+def test_a_wind_seas_own_kernel_that_does_not_compile_is_said_once_and_recorded(tmp_path):
+    """A wind sea's reflected rays run its own kernels (sunset.pipeline.frame.sea_stage): their twin replaced by
+    one that Numba cannot type, their family falls back, said and recorded as any kernel's."""
+    code = ("import numba\n"
+            "import sunset.vector.windsea_crests_numba as wn\n"
+            "@numba.njit\n"
+            "def _bad(x):\n"
+            "    return x.no_such_attribute\n"
+            "wn.wind_sea_rays = lambda scene, frame, reflections: _bad(frame.normal)\n")
+    err, made, info = _run(tmp_path, {}, code=code, scene="carlas-island-in-the-wind")
+    assert len(err) == 1, err
+    assert err[0].startswith("sunset: the compiled kernels of vector.windsea_crests could not be compiled (TypingError")
+    assert made == "mixed: compiled, numpy for vector.windsea_crests (compilation failed: TypingError)"
 
 
 def test_a_kernels_own_error_is_raised_not_taken_for_a_compile_failure(monkeypatch):

@@ -39,10 +39,14 @@ What chains them (this package):
   traced through this layer, shaded by :mod:`sunset.light`;
 * :mod:`sunset.pipeline.workers`: the process pools.
 
-The sea's scan line is chosen by the sea's kind (:func:`sunset.pipeline.frame.sea_stage`):
-the wave trains' (:func:`sunset.vector.heightfield.sea_columns`) or a wind
-sea's FFT tile (:func:`sunset.vector.windsea_scan.wind_columns`), strip
-kernels with the same arguments. A wind sea's strips of rows go through the
-stages one after the other (each stage's own compiled twin): the fused pass
-knows the trains' slopes only.
+The sea's strip kernels are chosen by the sea's kind, in one place
+(:func:`sunset.pipeline.frame.sea_stage`): the wave trains' (the scan line
+:func:`sunset.vector.heightfield.sea_columns`, the normals, the reflected rays
+:func:`sunset.vector.reflect.trace_sea_rays`) or a wind sea's (its FFT tile's
+scan line :func:`sunset.vector.windsea_scan.wind_columns`, normals
+:func:`~sunset.vector.windsea_scan.wind_normals`, reflected rays
+:func:`sunset.vector.windsea_crests.wind_sea_rays`), kernels with the same
+arguments; which twin of each runs, NumPy or compiled, is :mod:`sunset.kernels`'
+choice. The trains' kernels refuse a wind sea. A wind sea's strips of rows go
+through the stages one after the other: the fused pass knows the trains only.
 """

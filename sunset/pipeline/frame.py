@@ -41,10 +41,11 @@ from ..recorder.dicomed import add_sun, check_codes, exposure_table, lookup
 from ..tape.codemap import code_map
 from ..tape.codes import check_frame, encode_sea_rows, encode_strip
 from ..vector.direct import (DepthBuffer, IslandPass, check_island_pass, direct_rows, island_columns, island_key,
-                             island_probes, row_heights, sea_strip)
+                             island_probes, put_sea_normals, row_heights, sea_geometry, sea_strip)
 from ..vector.frame import Frame
 from ..vector.heightfield import sea_columns
-from ..vector.windsea_scan import wind_columns
+from ..vector.windsea_crests import wind_sea_rays
+from ..vector.windsea_scan import wind_columns, wind_normals, wind_sea_geometry
 from ..vector.reflect import trace_sea_rays
 from ..vector.budget import Work, check_work as check_budget
 
@@ -64,26 +65,40 @@ SEA_STRIP_PIXELS = 1 << 15
 
 # --------------------------------------------------------------------------- the depth buffer
 class SeaStage(NamedTuple):
-    """The strip kernel of a kind of sea: its scan line, the profile scan-converted and merged into the depth buffer.
+    """The strip kernels of a kind of sea, each a twin (:func:`sunset.kernels.twin` picks NumPy or compiled).
 
-    ``columns(sea, s, u, h, t, zeta0, dzeta, H, best_u, best_surf) -> tail pixels`` for a strip of scan lines
-    (:func:`sunset.vector.heightfield.sea_columns`).
+    ``columns(sea, s, u, h, t, zeta0, dzeta, H, best_u, best_surf) -> tail pixels``: a strip of scan lines, the
+    profile scan-converted and merged into the depth buffer (:func:`sunset.vector.heightfield.sea_columns`);
+    ``normals(sea, t, normal, idx, s, y)``: the sea pixels' unit normals of a strip of rows
+    (:func:`sunset.vector.direct.put_sea_normals`); ``geometry(...)``: a wave cycle's strip of sea pixels
+    (:func:`sunset.vector.direct.sea_geometry`); ``rays(scene, frame, reflections)``: the reflected rays of a
+    strip of rows (:func:`sunset.vector.reflect.trace_sea_rays`); ``fused``: whether the compiled fused pass of
+    the 8-bit path (:mod:`sunset.pipeline.fused_numba`) knows this sea (else its strips run the stages one
+    after the other).
     """
 
     columns: object
+    normals: object
+    geometry: object
+    rays: object
+    fused: bool
 
 
-#: The sea of wave trains (the paper's): :func:`sunset.vector.heightfield.sea_columns`.
-TRAINS = SeaStage(columns=sea_columns)
-#: A wind sea, its FFT tile read by the scan line: :func:`sunset.vector.windsea_scan.wind_columns`.
-WIND = SeaStage(columns=wind_columns)
+#: The sea of wave trains (the paper's).
+TRAINS = SeaStage(columns=sea_columns, normals=put_sea_normals, geometry=sea_geometry, rays=trace_sea_rays, fused=True)
+#: A wind sea, its FFT tile read by the scan line (:mod:`sunset.vector.windsea_scan`), its second
+#: reflections marched over the tile (:mod:`sunset.vector.windsea_crests`).
+WIND = SeaStage(columns=wind_columns, normals=wind_normals, geometry=wind_sea_geometry, rays=wind_sea_rays,
+                fused=False)
 
 
 def sea_stage(sea) -> SeaStage:
-    """The scan-line kernel of ``sea``'s kind: the trains' (:data:`TRAINS`) or a wind sea's (:data:`WIND`).
+    """The strip kernels of ``sea``'s kind: the trains' (:data:`TRAINS`) or a wind sea's (:data:`WIND`).
 
-    Another kind of sea plugs in here as another :class:`SeaStage` whose
-    kernel takes the same strip of scan lines and depth buffer.
+    The one place where the kind of sea picks its kernels; which of each
+    kernel's twins runs is :mod:`sunset.kernels`' choice. The trains'
+    kernels refuse a wind sea. Another kind of sea plugs in here as another
+    :class:`SeaStage` whose kernels take the same strips.
     """
     return TRAINS if sea.wind is None else WIND
 
@@ -185,7 +200,8 @@ def _assemble(scene, t: float, depth: DepthBuffer) -> Frame:
     """The direct fields of every pixel from the depth buffer, strip by strip of rows on all threads."""
     W, H = depth.u.shape
     frame = direct_frame(t, H, W)
-    run_strips(lambda r0, r1: direct_rows(scene, t, depth, r0, r1, frame.rows(r0, r1)), row_strips(H, W))
+    normals = sea_stage(scene.sea).normals
+    run_strips(lambda r0, r1: direct_rows(scene, t, depth, r0, r1, frame.rows(r0, r1), normals), row_strips(H, W))
     return frame
 
 
@@ -283,6 +299,7 @@ def trace_reflections(scene, frame: Frame, reflections: int,
         frame.incidence = np.full(frame.shape + (2,), np.nan, np.float32)
         frame.sea_rays = np.full(frame.shape + (2, 3), np.nan, np.float32)
     frame.reflections = reflections
+    rays = sea_stage(scene.sea).rays
 
     def rows(r0: int, r1: int) -> None:
         if finish:
@@ -291,7 +308,7 @@ def trace_reflections(scene, frame: Frame, reflections: int,
             frame.finish_rows(r0, r1, sea_rows=False)
         part = frame.rows(r0, r1)
         if np.any(part.surface == SEA):
-            trace_sea_rays(scene, part, reflections)
+            rays(scene, part, reflections)
 
     # every ray is traced on its own, so strips of rows go to the threads
     run_strips(rows, row_strips(*frame.shape))
@@ -494,9 +511,9 @@ def code_frame(scene: SceneLike, t: float, reflections: int = 2, seed: int = 0, 
     H, W = cam.height, cam.width
     cmap = code_map(scene)
     codes = np.empty((H, W), np.uint8)
-    # a wind sea's slopes come from its tile: its strips go through the stages one after the other (each
-    # stage's own twin), the fused pass knows the trains' slopes only
-    strip = code_strip if scene.sea.wind is None else code_strip.reference
+    # the fused pass knows the trains only: a wind sea's strips go through its stages one after the other
+    # (each stage's own twin)
+    strip = code_strip if sea_stage(scene.sea).fused else code_strip.reference
     run_strips(lambda r0, r1: strip(scene, t, reflections, seed, depth, r0, r1, cmap, codes[r0:r1], still),
                strips(H, max(1, SEA_STRIP_PIXELS // W)))
     return codes
@@ -521,14 +538,15 @@ def code_strip(scene, t: float, reflections: int, seed: int, depth: DepthBuffer,
     (:mod:`sunset.pipeline.fused_numba`).
     """
     n, W = r1 - r0, depth.u.shape[0]
+    stage = sea_stage(scene.sea)
     if still is None:
         part = direct_frame(t, n, W)
-        direct_rows(scene, t, depth, r0, r1, part)
+        direct_rows(scene, t, depth, r0, r1, part, stage.normals)
         part.allocate_final(sea_bounces=False)
         # rows all of sea: written by the reflected rays
         part.finish_rows(0, n, sea_rows=False)
     else:
-        part = sea_strip(scene, t, depth, still.direction, r0, r1)
+        part = sea_strip(scene, t, depth, still.direction, r0, r1, stage.geometry)
         # the final fields: written by the reflections on the sea pixels,
         # read only there
         part.bounces = np.empty((n, W), np.uint8)
@@ -538,7 +556,7 @@ def code_strip(scene, t: float, reflections: int, seed: int, depth: DepthBuffer,
         part.final_normal = np.empty((n, W, 3), np.float32)
     part.reflections = reflections
     if np.any(part.surface == SEA):
-        trace_sea_rays(scene, part, reflections)
+        stage.rays(scene, part, reflections)
     if still is None:
         encode_strip(scene, part, seed, r0, cmap, codes)
     else:

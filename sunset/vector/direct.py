@@ -29,10 +29,9 @@ from ..model.waves import unit_normal
 from .frame import Frame
 from .heightfield import Sampling, sea_gradient_on_scanlines
 from .island_samples import islands_scan, probe_refinement
-from .windsea_scan import wind_gradient_on_scanlines
 
 __all__ = ["IslandPass", "island_key", "check_island_pass", "DepthBuffer", "row_heights", "island_probes",
-           "island_columns", "direct_rows", "sea_strip", "sea_geometry", "assemble_geometry", "put_unit_normals",
+           "island_columns", "direct_rows", "sea_strip", "sea_points", "sea_geometry", "assemble_geometry", "put_unit_normals",
            "put_sea_normals", "put_island_normals"]
 
 _F32 = np.float32
@@ -135,14 +134,15 @@ def island_columns(scene, samp: Sampling, budget: int, probes: list, refine_isla
                         u, code)
 
 
-def direct_rows(scene, t: float, depth: DepthBuffer, r0: int, r1: int, out: Frame) -> None:
+def direct_rows(scene, t: float, depth: DepthBuffer, r0: int, r1: int, out: Frame, normals=None) -> None:
     """The direct fields of the rows ``r0:r1`` (top down) of a frame, from the depth buffer, into ``out``.
 
     ``out`` holds just those rows (a strip's own arrays, or a frame's rows:
     :meth:`~sunset.vector.frame.Frame.rows`). Hit points, distances,
     directions (:func:`assemble_geometry`), then the normals from the
     gradients on the compressed subsets of sea and island pixels
-    (:func:`put_sea_normals`, :func:`put_island_normals`) and the islands' parts.
+    (``normals``, the sea's kind's kernel: the trains' :func:`put_sea_normals`
+    by default; :func:`put_island_normals`) and the islands' parts.
     """
     best_u, best_surf, s_all, zeta = depth
     H = best_u.shape[1]
@@ -153,7 +153,7 @@ def direct_rows(scene, t: float, depth: DepthBuffer, r0: int, r1: int, out: Fram
     # the sea: the gradient in the b_j, c_j form, on the sea pixels only
     idx, s_hit, y_hit = hits[0]
     if len(idx):
-        put_sea_normals(scene.sea, t, out.normal, idx, s_hit, y_hit)
+        (normals or put_sea_normals)(scene.sea, t, out.normal, idx, s_hit, y_hit)
     for k, island in enumerate(scene.islands, start=1):
         idx, s_hit, yk = hits[k]
         if not len(idx):
@@ -161,12 +161,13 @@ def direct_rows(scene, t: float, depth: DepthBuffer, r0: int, r1: int, out: Fram
         put_island_normals(island, out.normal, out.part, idx, s_hit, yk)
 
 
-def sea_strip(scene, t: float, depth: tuple, direction, r0: int, r1: int) -> Frame:
+def sea_strip(scene, t: float, depth: tuple, direction, r0: int, r1: int, geometry=None) -> Frame:
     """The direct rays of the rows ``r0:r1`` (top down) of a wave cycle's frame, as far as its sea pixels need them.
 
     From the frame's depth buffer ``depth`` (:class:`DepthBuffer`): ``surface``
     everywhere and, on the sea pixels alone, ``point`` and ``normal``
-    (:func:`sea_geometry`), the same bits as :func:`direct_rows`' there,
+    (``geometry``, the sea's kind's kernel: the trains' :func:`sea_geometry`
+    by default), the same bits as :func:`direct_rows`' there,
     in arrays of the strip's own. ``direction`` (H, W, 3) float32 is the
     whole frame's, which does not change with time: the strip's is a view of
     it. ``point`` and ``normal`` are left unset off the sea, and ``part`` and
@@ -181,8 +182,8 @@ def sea_strip(scene, t: float, depth: tuple, direction, r0: int, r1: int) -> Fra
     point = np.empty((n, W, 3), _F32)
     normal = np.empty((n, W, 3), _F32)
     k0, k1 = H - r1, H - r0      # the rows' pixels, counted from the bottom
-    sea_geometry(best_u[:, k0:k1], best_surf[:, k0:k1], s_all, zeta[k0:k1], scene.sea, float(t), surface, point,
-                 normal)
+    (geometry or sea_geometry)(best_u[:, k0:k1], best_surf[:, k0:k1], s_all, zeta[k0:k1], scene.sea, float(t),
+                               surface, point, normal)
     return Frame(t=float(t), reflections=0, direction=direction[r0:r1], surface=surface, part=None, distance=None,
                  point=point, normal=normal)
 
@@ -196,11 +197,17 @@ def sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, 
     the bottom, at heights ``zeta`` (K,). Fills ``surface`` (K, W) int8, rows
     from the top, and, where it is the sea, ``point`` and ``normal`` (K, W, 3)
     float32 with the same bits as :func:`direct_rows` (elsewhere they are not written).
+    A sea of trains (a wind sea's is :func:`sunset.vector.windsea_scan.wind_sea_geometry`).
     """
+    idx, s, y = sea_points(best_u, best_surf, s_all, zeta, surface, point)
+    if len(idx):
+        put_sea_normals(sea, t, normal, idx, s, y)
+
+
+def sea_points(best_u, best_surf, s_all, zeta, surface, point):
+    """:func:`sea_geometry`'s ``surface`` and the sea pixels' ``point``, whatever the sea; their (flat index, s, y)."""
     surface[...] = best_surf[:, ::-1].T
     idx = np.flatnonzero(surface == SEA)
-    if not len(idx):
-        return
     W = surface.shape[1]
     y = 1.0 / best_u[:, ::-1].T.reshape(-1)[idx]
     s = s_all[idx % W]
@@ -209,7 +216,7 @@ def sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, 
     flat[idx, 0] = s * y
     flat[idx, 1] = y
     flat[idx, 2] = z * y
-    put_sea_normals(sea, t, normal, idx, s, y)
+    return idx, s, y
 
 
 @twin("sunset.vector.direct_numba")
@@ -258,10 +265,11 @@ def put_sea_normals(sea, t: float, normal, idx, s, y) -> None:
     """The sea pixels' unit normals: the slopes on the scan lines, then (−f_x, −f_y, 1)/|·| into ``idx``, in place.
 
     :func:`sunset.vector.heightfield.sea_gradient_on_scanlines` at (s·y, y)
-    and :func:`put_unit_normals`; the twin does both in one pass.
+    and :func:`put_unit_normals`; the twin does both in one pass. A sea of
+    trains: a wind sea is refused (its normals are
+    :func:`sunset.vector.windsea_scan.wind_normals`').
     """
-    gradient = sea_gradient_on_scanlines if sea.wind is None else wind_gradient_on_scanlines
-    fx, fy = gradient(sea, s, y, t)
+    fx, fy = sea_gradient_on_scanlines(sea, s, y, t)
     put_unit_normals(normal, idx, fx, fy)
 
 

@@ -255,9 +255,9 @@ def scan_convert(u, g, zeta0: float, dzeta: float, n_pixels: int):
 # the sea along scan lines: g(y) and the gradient in the paper's b_j, c_j form
 
 
-#: What the trains' kernels say of a wind sea (its scan line and slopes are sunset.vector.windsea_scan's).
-WIND_REFUSED = ("sea: a wind sea has no trains for this kernel: its scan line and slopes are "
-                "sunset.vector.windsea_scan's (wind_columns, wind_gradient_on_scanlines)")
+#: What the trains' kernels say of a wind sea (its kernels are sunset.vector.windsea_scan's and windsea_crests').
+WIND_REFUSED = ("sea: a wind sea has no trains for this kernel: its strip kernels are sunset.vector.windsea_scan's "
+                "and windsea_crests' (sunset.pipeline.frame.sea_stage picks them)")
 
 
 def _sea_terms(sea, s, t):

@@ -29,21 +29,37 @@ from __future__ import annotations
 import numpy as np
 
 from ..constants import SEA, SKY
+from ..errors import SunsetError
 from ..kernels import twin
 from .crests import secondary_reflections
 from .frame import Frame
+from .heightfield import WIND_REFUSED
 from .pierce import gather, island_normal, pierce_islands, reflect, scatter
-from .windsea_crests import check_second_reflections, wind_secondary_reflections
 
-__all__ = ["trace_sea_rays", "record_bounces"]
+__all__ = ["trace_sea_rays", "sea_rays", "record_bounces"]
 
 
 @twin("sunset.vector.reflect_numba")
 def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
-    """The reflected rays of a strip of rows (``frame``) with sea pixels: reflect, pierce, write back.
+    """The reflected rays of a strip of rows (``frame``) with sea pixels, on a sea of trains: reflect, pierce, write back.
 
-    Gather and reflect the sea pixels' rays; with two reflections pierce the
-    crest cylinders and reflect the hits again off the true wave normal;
+    :func:`sea_rays` with the crest cylinders' second reflections
+    (:func:`sunset.vector.crests.secondary_reflections`). A wind sea is
+    refused (:data:`~sunset.vector.heightfield.WIND_REFUSED`): its rays are
+    :func:`sunset.vector.windsea_crests.wind_sea_rays`', chosen by the
+    pipeline (:func:`sunset.pipeline.frame.sea_stage`).
+    """
+    if scene.sea.wind is not None:
+        raise SunsetError(WIND_REFUSED)
+    return sea_rays(scene, frame, reflections, lambda q, r: secondary_reflections(scene.sea, frame.t, q, r))
+
+
+def sea_rays(scene, frame: Frame, reflections: int, second) -> Frame:
+    """The reflected rays of a strip of rows, whatever the sea, with ``second`` its second reflections.
+
+    Gather and reflect the sea pixels' rays; with two reflections,
+    ``second(q, r)`` gives the rays that meet the sea again (their indices,
+    the points where they meet it, their directions reflected there);
     |R_z|; pierce the islands and shade the island hits; scatter the final
     fields into the frame (in place) and return it.
     """
@@ -56,12 +72,8 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
     r1 = r.copy()
     bounces = np.ones(len(q), np.uint8)
     idx = ray2 = None
-    if reflections == 2 and scene.sea.wind is not None:    # a wind sea: the ray marched over its tile
-        check_second_reflections(scene.sea, reflections)
-        idx, point, ray2 = wind_secondary_reflections(scene.sea, frame.t, q, r, h)
-    elif reflections == 2:
-        idx, point, ray2 = secondary_reflections(scene.sea, frame.t, q, r)
     if reflections == 2:
+        idx, point, ray2 = second(q, r)
         scatter(idx, point, q)
         scatter(idx, ray2, r)
         scatter(idx, 2, bounces)

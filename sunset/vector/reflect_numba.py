@@ -30,11 +30,13 @@ import math
 import numpy as np
 
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
+from ..errors import SunsetError
 from ..kernels import jit as _jit
 from .crests_numba import (_quadratic, crest_block, crest_constants, crest_distance, crest_entry,
                            sea_normals_into, second_bounce_constants)
-from .pierce import island_bounds
 from .frame import Frame
+from .heightfield import WIND_REFUSED
+from .pierce import island_bounds
 
 
 @_jit
@@ -472,11 +474,17 @@ def trace_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
 
     :func:`trace_strip`: reflect, pierce the crest, reflect again, record,
     |R_z|, the islands, their normals at the hits and the frame's final
-    fields, block by block of rays.
+    fields, block by block of rays. A sea of trains only: a wind sea is refused
+    (:data:`~sunset.vector.heightfield.WIND_REFUSED`), as by the reference.
     """
-    if reflections == 2 and scene.sea.wind is not None:   # a wind sea's march: the reference's passes, compiled
-        from . import reflect as _reference                     # march (sunset.vector.windsea_crests_numba)
-        return _reference.trace_sea_rays.reference(scene, frame, reflections)
+    if scene.sea.wind is not None:
+        raise SunsetError(WIND_REFUSED)
+    return strip_pass(scene, frame, reflections)
+
+
+def strip_pass(scene, frame: Frame, reflections: int) -> Frame:
+    """:func:`trace_strip` over the strip: the second reflections off the trains' crest (``reflections`` = 2), or
+    none, when nothing of the sea is read but the frame's normals (also a wind sea's one bounce)."""
     do_second, second, table, normals, terms, h = reflect_constants(scene, frame.t, reflections)
     record = frame.incidence is not None
     inc, rays = (frame.incidence, frame.sea_rays) if record else _NO_RECORD

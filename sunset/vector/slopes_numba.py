@@ -158,13 +158,10 @@ def sea_gradient_on_scanlines(sea, s, y, t: float = 0.0):
 def put_sea_normals(sea, t: float, normal, idx, s, y) -> None:
     """:func:`sunset.vector.direct.put_sea_normals` compiled: the slopes and the unit normals in one pass.
 
-    A wind sea's slopes come from its tile (the reference's path, whose
-    :func:`~sunset.vector.windsea_scan.wind_gradient_on_scanlines` is compiled).
+    A sea of trains: a wind sea is refused (:func:`slope_terms`); its normals are
+    :func:`sunset.vector.windsea_scan_numba.wind_normals`'.
     """
     if len(idx) == 0:
         return
-    if sea.wind is not None:
-        from . import direct
-        return direct.put_sea_normals.reference(sea, t, normal, idx, s, y)
     s32, y32 = _points(s, y)
     _normals(s32, y32, *slope_terms(sea, t), BLOCK, np.ascontiguousarray(idx, np.intp), normal.reshape(-1, 3))

@@ -36,6 +36,11 @@ second reflections are refused (:func:`check_second_reflections`).
 (:mod:`sunset.vector.windsea_crests_numba`), one ray at a time with the
 same steps; the two agree within the tolerances the tests state, and both
 against a fine fixed-step march (tests).
+
+:func:`wind_sea_rays` is the wind sea's strip kernel of the reflected rays,
+beside the trains' :func:`sunset.vector.reflect.trace_sea_rays` (the pipeline
+picks the one of the sea's kind, :func:`sunset.pipeline.frame.sea_stage`),
+with its own twin.
 """
 
 from __future__ import annotations
@@ -44,10 +49,12 @@ import numpy as np
 
 from ..errors import SunsetError
 from ..kernels import twin
+from .frame import Frame
 from .pierce import reflect
+from .reflect import sea_rays
 
 __all__ = ["MARCH_MIN_STEP", "MARCH_BISECTIONS", "MARCH_MAX_TILES", "check_second_reflections", "slope_bounds",
-           "march_constants", "wind_march", "bounce_off", "wind_secondary_reflections"]
+           "march_constants", "wind_march", "bounce_off", "wind_secondary_reflections", "wind_sea_rays"]
 
 #: δ = Δ / MARCH_MIN_STEP: the least step of the march, in grid spacings.
 MARCH_MIN_STEP = 16
@@ -159,3 +166,16 @@ def wind_secondary_reflections(sea, t: float, q, r, h: float):
     ``h`` is the eye height, metres.
     """
     return bounce_off(sea, t, q, r, h, wind_march)
+
+
+@twin("sunset.vector.windsea_crests_numba")
+def wind_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
+    """The reflected rays of a strip of rows (``frame``) on a wind sea: reflect, march, reflect again, pierce.
+
+    :func:`sunset.vector.reflect.sea_rays` with the second reflections of
+    :func:`bounce_off` and :func:`wind_march` (NumPy throughout); a choppy
+    sea's two reflections are refused (:func:`check_second_reflections`).
+    """
+    check_second_reflections(scene.sea, reflections)
+    h = scene.camera.eye_height
+    return sea_rays(scene, frame, reflections, lambda q, r: bounce_off(scene.sea, frame.t, q, r, h, wind_march))

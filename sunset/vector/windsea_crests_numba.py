@@ -4,7 +4,13 @@
 safe step max(−F/ρ, δ), the same bracket, the same halvings), with the
 trains' compiled bilinear interpolation
 (:func:`sunset.vector.windsea_scan_numba._bilinear`); the reflection off
-the sea's normal at the hit is the reference's (:func:`~sunset.vector.windsea_crests.bounce_off`). Chosen by :mod:`sunset.kernels`.
+the sea's normal at the hit is the reference's (:func:`~sunset.vector.windsea_crests.bounce_off`).
+
+:func:`wind_sea_rays`, the strip kernel: with one reflection (or none) nothing
+of the sea is read but the frame's normals, and the strip goes through the
+compiled pass that reflects, pierces the islands and writes the final fields
+(:func:`sunset.vector.reflect_numba.strip_pass`, with no crest); with two,
+:func:`sunset.vector.reflect.sea_rays` with the compiled march. Chosen by :mod:`sunset.kernels`.
 """
 
 from __future__ import annotations
@@ -13,7 +19,10 @@ import numpy as np
 
 from ..kernels import jit as _jit
 from . import windsea_crests as _reference
-from .windsea_crests import MARCH_BISECTIONS, march_constants
+from .frame import Frame
+from .reflect import sea_rays
+from .reflect_numba import strip_pass
+from .windsea_crests import MARCH_BISECTIONS, check_second_reflections, march_constants
 from .windsea_scan_numba import _bilinear
 
 
@@ -69,3 +78,12 @@ def wind_march(tile, t: float, h: float, q, r) -> np.ndarray:
 def wind_secondary_reflections(sea, t: float, q, r, h: float):
     """:func:`sunset.vector.windsea_crests.wind_secondary_reflections` with the compiled march."""
     return _reference.bounce_off(sea, t, q, r, h, wind_march)
+
+
+def wind_sea_rays(scene, frame: Frame, reflections: int) -> Frame:
+    """:func:`sunset.vector.windsea_crests.wind_sea_rays` compiled: the compiled strip pass, or the compiled march."""
+    check_second_reflections(scene.sea, reflections)
+    if reflections < 2:
+        return strip_pass(scene, frame, reflections)
+    h = scene.camera.eye_height
+    return sea_rays(scene, frame, reflections, lambda q, r: wind_secondary_reflections(scene.sea, frame.t, q, r, h))

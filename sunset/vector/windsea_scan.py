@@ -34,6 +34,13 @@ train's, and is not applied to a wind sea.
 :func:`wind_columns` has a Numba twin (:mod:`sunset.vector.windsea_scan_numba`)
 that interpolates each scan line's profile into a buffer and scan-converts it
 at once, as the trains' twin does.
+
+The direct rays' rows of a wind sea have their own strip kernels beside the
+trains' (:mod:`sunset.vector.direct`): :func:`wind_normals` for
+:func:`~sunset.vector.direct.direct_rows` and :func:`wind_sea_geometry` for a
+wave cycle's sea pixels (:func:`~sunset.vector.direct.sea_strip`), each with
+its twin. The pipeline picks the kernels of the sea's kind
+(:func:`sunset.pipeline.frame.sea_stage`); the trains' kernels refuse a wind sea.
 """
 
 from __future__ import annotations
@@ -41,9 +48,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..kernels import twin
+from .direct import put_unit_normals, sea_points
 from .heightfield import _F32, _profile_arrays, sea_scan
 
-__all__ = ["wind_profile", "wind_columns", "wind_gradient_on_scanlines"]
+__all__ = ["wind_profile", "wind_columns", "wind_gradient_on_scanlines", "wind_normals", "wind_sea_geometry"]
 
 
 def wind_profile(sea, s, u, h: float, t: float = 0.0):
@@ -85,3 +93,27 @@ def wind_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     y = np.asarray(y, dtype=np.float64)
     _, zx, zy = sea.wind.tile.sample(s * y, y, t)
     return zx.astype(_F32), zy.astype(_F32)
+
+
+@twin("sunset.vector.windsea_scan_numba")
+def wind_normals(sea, t: float, normal, idx, s, y) -> None:
+    """A wind sea's pixels' unit normals into the flat pixels ``idx`` of ``normal`` (H, W, 3), in place.
+
+    :func:`wind_gradient_on_scanlines` at (s·y, y), then
+    :func:`~sunset.vector.direct.put_unit_normals`: the wind sea's
+    :func:`sunset.vector.direct.put_sea_normals`.
+    """
+    fx, fy = wind_gradient_on_scanlines(sea, s, y, t)
+    put_unit_normals(normal, idx, fx, fy)
+
+
+@twin("sunset.vector.windsea_scan_numba")
+def wind_sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, normal) -> None:
+    """A wind sea's :func:`sunset.vector.direct.sea_geometry`: the sea pixels' points, then :func:`wind_normals`.
+
+    The same arguments; the same bits as :func:`~sunset.vector.direct.direct_rows`
+    with :func:`wind_normals` on the sea pixels.
+    """
+    idx, s, y = sea_points(best_u, best_surf, s_all, zeta, surface, point)
+    if len(idx):
+        wind_normals(sea, t, normal, idx, s, y)

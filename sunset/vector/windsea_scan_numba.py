@@ -9,7 +9,10 @@ while it is in cache with the trains' compiled scan line
 gradient grids. On a choppy tile (λ > 0) each point is first carried back
 through the choppy map with the reference's fixed-point steps
 (:func:`_choppy_origin`, :meth:`sunset.model.ocean.OceanTile.sample`'s
-arithmetic in its order), and the slope is (I + λ∇D)⁻ᵀ∇z there. Chosen by
+arithmetic in its order), and the slope is (I + λ∇D)⁻ᵀ∇z there.
+:func:`wind_normals` and :func:`wind_sea_geometry` are the rows' kernels: the
+gradient, then the unit normals (:func:`sunset.vector.direct_numba.put_unit_normals`),
+after the sea pixels' points in one pass (:func:`_sea_points`). Chosen by
 :mod:`sunset.kernels`.
 """
 
@@ -23,6 +26,7 @@ from ..constants import SEA
 from ..model.ocean import CHOPPY_ITERATIONS
 from ..kernels import jit as _jit
 from . import windsea_scan as _reference
+from .direct_numba import put_unit_normals
 from .heightfield import _F32
 from .heightfield_numba import _merge_row, _scan_row_b
 
@@ -138,3 +142,43 @@ def wind_gradient_on_scanlines(sea, s, y, t: float = 0.0):
     _gradient(f["zx"], f["zy"], *chop, tile.spacing, float(tile.choppiness), CHOPPY_ITERATIONS,
               np.ascontiguousarray(s).ravel(), np.ascontiguousarray(y).ravel(), gx.reshape(-1), gy.reshape(-1))
     return gx, gy
+
+
+def wind_normals(sea, t: float, normal, idx, s, y) -> None:
+    """:func:`sunset.vector.windsea_scan.wind_normals` compiled: the compiled gradient and unit normals (the same bits)."""
+    if len(idx) == 0:
+        return
+    fx, fy = wind_gradient_on_scanlines(sea, s, y, t)
+    put_unit_normals(normal, idx, fx, fy)
+
+
+@_jit
+def _sea_points(best_u, best_surf, s_all, zeta, sea_code, surface, point, flat, s_out, y_out):
+    """:func:`sunset.vector.direct.sea_points` in one pass: ``surface``, the sea's points; how many, gathered."""
+    W, H = best_u.shape
+    n = 0
+    for row in range(H):
+        k = H - 1 - row
+        for col in range(W):
+            sc = best_surf[col, k]
+            surface[row, col] = sc
+            if sc == sea_code:
+                yv = 1.0 / best_u[col, k]
+                sv = s_all[col]
+                point[row, col, 0] = sv * yv
+                point[row, col, 1] = yv
+                point[row, col, 2] = zeta[k] * yv
+                flat[n] = row * W + col
+                s_out[n] = sv
+                y_out[n] = yv
+                n += 1
+    return n
+
+
+def wind_sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, normal) -> None:
+    """:func:`sunset.vector.windsea_scan.wind_sea_geometry` compiled: the points in one pass, then :func:`wind_normals`."""
+    size = best_u.size
+    flat, s, y = np.empty(size, np.intp), np.empty(size), np.empty(size)
+    n = _sea_points(best_u, best_surf, np.ascontiguousarray(s_all, np.float64), np.ascontiguousarray(zeta, np.float64),
+                    SEA, surface, point, flat, s, y)
+    wind_normals(sea, t, normal, flat[:n], s[:n], y[:n])
