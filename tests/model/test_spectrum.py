@@ -126,11 +126,45 @@ def test_cox_and_munk_from_four_to_fourteen_metres_per_second():
         m_up, m_cross = slope_variances("mitsuyasu", s)
         assert m_up + m_cross == pytest.approx(up + cross, rel=1e-12)          # the total needs no direction
     # where it fails, as the book says: a fully developed sea at 2 m/s has too much slope (its long
-    # waves alone give ≈ 0.017), and cos-2s, carried far above the peak, is too isotropic at 10–14 m/s
+    # waves alone give ≈ 0.021, test_the_low_wind_excess_is_the_long_waves_tail_in_closed_form), and cos-2s, carried far above the peak, is too isotropic at 10–14 m/s
     s2 = WindSpectrum(Wind(2.0, 12.5))
     assert s2.mean_square_slope > cox_munk_clean(2.0)["total"][0] + 0.004
     for u in (10.0, 12.0, 14.0):
         assert slope_variances("mitsuyasu", WindSpectrum(Wind(u, 12.5)))[1] > cox_munk_clean(u)["crosswind"][0] + 0.002
+
+
+def long_wave_slopes_closed_form(omega):
+    """ECKV's long waves' slope variance far above the peak, in closed form: α_p √10/Ω.
+
+    With c = √(g/k) (gravity waves), L_PM = J_p = 1, x = √(k/k_p) and d ln k = 2 dx/x, B_l = ½ α_p x e^{−a(x−1)}
+    (a = Ω/√10) gives ∫ B_l d ln k = α_p ∫₁^∞ e^{−a(x−1)} dx = α_p/a: no wind in it but through Ω.
+    """
+    return 6e-3 * omega ** 0.55 * math.sqrt(10.0) / omega
+
+
+def test_the_low_wind_excess_is_the_long_waves_tail_in_closed_form():
+    """Why 2 m/s fails Cox and Munk: the long waves' slopes, α_p √10/Ω ≈ 0.021 at any wind, alone exceed their
+    2 m/s line and its scatter; the short waves are gone (u* < c_m/e: α_m = 0). No constant is tuned here."""
+    calm = WindSpectrum(Wind(2.0, 12.5))
+    closed = long_wave_slopes_closed_form(calm.inverse_wave_age)
+    assert calm.friction_velocity < ECKV_CM / math.e and calm.alpha_m == 0.0
+    # the whole spectrum's slopes (the body below the join, ECKV's long waves above it) within 7 % of the closed
+    # form: it takes c = √(g/k) and L_PM = J_p = 1 and starts at k_p, where the body takes over below 4 k_p
+    assert calm.mean_square_slope == pytest.approx(closed, rel=0.07)
+    law = cox_munk_clean(2.0)["total"]
+    assert closed > law[0] + law[1] and calm.mean_square_slope > law[0] + law[1]
+    # the long waves' share by quadrature, at every wind: the closed form's, within 3 % (no wind dependence)
+    for u in (2.0, 4.0, 8.0, 14.0):
+        s = WindSpectrum(Wind(u, 12.5))
+        k = np.geomspace(s.peak_wavenumber / 30, 1e6, 100000)
+        b_l, _ = s.eckv_curvature(k)
+        assert np.trapezoid(b_l, np.log(k)) == pytest.approx(long_wave_slopes_closed_form(s.inverse_wave_age),
+                                                             rel=0.03), u
+    # and the closed form is the integral it claims (quadrature of ½ α_p x e^{−a(x−1)} · 2/x over x >= 1)
+    om = calm.inverse_wave_age
+    a = om / math.sqrt(10.0)
+    quad, _ = integrate.quad(lambda x: 6e-3 * om ** 0.55 * math.exp(-a * (x - 1.0)), 1.0, math.inf)
+    assert quad == pytest.approx(long_wave_slopes_closed_form(om), rel=1e-9)
 
 
 def test_the_omega_minus_five_tail_alone_cannot_reach_cox_and_munk():
