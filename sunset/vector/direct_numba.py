@@ -243,12 +243,9 @@ def sea_geometry(best_u, best_surf, s_all, zeta, sea, t: float, surface, point, 
 
     The points as :func:`assemble`, the normals as
     :func:`sunset.vector.slopes_numba.put_sea_normals` (the slopes over
-    blocks of the tile's sea pixels, gathered as they are met). A wind sea
-    has no trains to take slopes of: the reference's pass, whose normals come
-    from its tile (:func:`sunset.vector.slopes_numba.put_sea_normals`).
+    blocks of the tile's sea pixels, gathered as they are met). A sea of
+    trains: a wind sea is refused (:func:`sunset.vector.slopes_numba.slope_terms`);
+    its kernel is :func:`sunset.vector.windsea_scan_numba.wind_sea_geometry`.
     """
-    if sea.wind is not None:
-        from . import direct
-        return direct.sea_geometry.reference(best_u, best_surf, s_all, zeta, sea, t, surface, point, normal)
     _sea_geometry(best_u, best_surf, np.ascontiguousarray(s_all, np.float64), np.ascontiguousarray(zeta, np.float64),
                   SEA, surface, point, normal.reshape(-1, 3), *slope_terms(sea, t), BLOCK, TILE_ROWS, TILE_COLUMNS)

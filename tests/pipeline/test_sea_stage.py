@@ -122,3 +122,21 @@ def test_the_wind_frames_agree_on_both_paths_with_the_bounces(reflections):
     ref, got = frames
     assert (ref.bounces == 2).any() == (reflections == 2)
     assert_geometry_agrees(ref, got, f"wind, {reflections} reflections")
+
+
+def test_no_compiled_twin_of_the_vector_stage_imports_inside_a_function():
+    """The sea's kernel is chosen by sunset.pipeline.frame.sea_stage and sunset.kernels, never by a twin handing
+    work back to a reference through an import inside a function (the vector stage's and the fused pass's twins)."""
+    import ast
+    from pathlib import Path
+
+    import sunset
+
+    root = Path(sunset.__file__).parent
+    found = []
+    for path in sorted([*root.glob("vector/*_numba.py"), *root.glob("pipeline/*_numba.py")]):
+        for fn in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                found += [f"{path.relative_to(root)}:{node.lineno}" for node in ast.walk(fn)
+                          if isinstance(node, (ast.Import, ast.ImportFrom))]
+    assert found == []
