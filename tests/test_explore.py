@@ -288,3 +288,29 @@ def test_what_the_renderer_keeps_between_views_gives_the_bytes_of_a_fresh_render
     for view in steps:
         pic = renderer(view)
         assert np.array_equal(pic.rgb, expected(scene_for(start, view), view)), view
+
+
+@pytest.mark.parametrize("name, turns", [("carlas-island-in-the-wind", False), ("carlas-island-clouds", False),
+                                         ("carlas-island", True)])
+def test_a_scene_that_cannot_turn_has_its_heading_slider_disabled_and_says_why(name, turns):
+    """A wind sea's tile (or a cloud layer's cells) lies along x and y: its explorer offers no heading, the
+    slider's tooltip gives the reason, and a heading asked for anyway is refused in one line, the picture kept."""
+    from sunset.explorer.settings import cannot_turn
+
+    ex = sunset.explore(name, size=(24, 20))
+    try:
+        assert ex.wait(120) and ex.error == ""
+        slider = ex.controls["heading"]
+        assert slider.disabled is not turns
+        why = cannot_turn(ex.start.scene)
+        assert (why is None) is turns
+        if turns:
+            return
+        assert slider.tooltip == why and ("wind sea" in why if "wind" in name else "clouds" in why)
+        good = ex.picture
+        slider.value = 5.0                        # as a program, not the disabled slider, would set it
+        assert ex.wait(120)
+        assert ex.error == f"heading: {why}; set heading to 0" and "\n" not in ex.status.value
+        assert ex.picture is good
+    finally:
+        ex.close()

@@ -31,7 +31,9 @@ shading. What each control changes in the scene:
     instead (:func:`turned`): every island, post, wave train and the sun's
     circle turn by −heading. A scene with clouds or a wind sea cannot turn
     (its cloud cells are ellipses along x and y, the wind sea's tile a lattice
-    along them): its heading stays 0.
+    along them; :func:`cannot_turn`): its heading slider is disabled, its
+    tooltip says why, and a view that asks for a heading is refused in one
+    line.
 ``hours``, ``t``, ``reflections``, ``shading``, ``seed``
     Not the scene's: the hours before sunset of the colour tables (or the
     RGB back end's light), the sea's time in seconds, the reflection mode
@@ -55,7 +57,8 @@ from ..model.islands import Island, Paraboloid
 from ..model.scene import Scene, SceneLike, as_scene
 from ..model.sun import require_hours
 
-__all__ = ["SHADINGS", "TrainControl", "View", "Start", "scene_for", "turned", "pitched", "rung_of", "pitch_of"]
+__all__ = ["SHADINGS", "TrainControl", "View", "Start", "scene_for", "cannot_turn", "turned", "pitched", "rung_of",
+           "pitch_of"]
 
 #: The two shadings: the paper's 8-bit codes and colour tables, or the RGB back end.
 SHADINGS = ("codes", "rgb")
@@ -203,6 +206,22 @@ def _angle(degrees: float) -> float:
     return (degrees + 180.0) % 360.0 - 180.0
 
 
+def cannot_turn(scene: Scene) -> str | None:
+    """Why the eye of ``scene`` cannot turn (its heading stays 0), or None where it can.
+
+    A cloud layer's cells are ellipses along x and y, and a wind sea's tile is
+    a lattice along them: turning the world would turn them too, and a
+    turned lattice is another sea (its waves would jump as the eye turns).
+    The explorer disables its heading slider for such a scene, with this
+    reason as the slider's tooltip.
+    """
+    if scene.clouds is not None:
+        return "a scene with clouds cannot turn (its cloud cells are ellipses along x and y)"
+    if getattr(scene.sea, "wind", None) is not None:
+        return "a scene with a wind sea cannot turn (its tile's lattice lies along x and y)"
+    return None
+
+
 def turned(scene: Scene, heading: float) -> Scene:
     """The scene as the eye sees it after turning ``heading`` degrees to the right (clockwise from above).
 
@@ -218,12 +237,9 @@ def turned(scene: Scene, heading: float) -> Scene:
     require_range("heading", heading, -180.0, 180.0, "degrees")
     if heading == 0:
         return scene
-    if scene.clouds is not None:
-        raise SunsetError("heading: a scene with clouds cannot turn (its cloud cells are ellipses along x and y); "
-                          "set heading to 0")
-    if getattr(scene.sea, "wind", None) is not None:
-        raise SunsetError("heading: a scene with a wind sea cannot turn (its tile's lattice lies along x and y); "
-                          "set heading to 0")
+    why = cannot_turn(scene)
+    if why is not None:
+        raise SunsetError(f"heading: {why}; set heading to 0")
     a = math.radians(heading)
     c, s = math.cos(a), math.sin(a)
 

@@ -24,7 +24,7 @@ import traitlets
 from ..constants import MIN_WAVELENGTH
 from ..errors import SunsetError
 from .picture import Picture, Renderer, readout, rgba_for_screen, scene_text
-from .settings import Start, TrainControl, View
+from .settings import Start, TrainControl, View, cannot_turn
 from .worker import Latest
 
 __all__ = ["PictureView", "Explorer", "RUNG_MAX", "SNAP"]
@@ -100,6 +100,9 @@ class Explorer(w.HBox):
             c[f"trains[{i}].direction"] = _slider(f"train {i + 1} dir. (°)", ctl.direction, 0.0, 360.0, 1.0, ".0f")
         c["eye_height"] = _slider("eye height (m)", v.eye_height, 0.5, 50.0, 0.1, ".1f")
         c["heading"] = _slider("heading (°)", v.heading, -90.0, 90.0, 0.5, ".1f")
+        fixed = cannot_turn(start.scene)          # clouds or a wind sea: their cells and tile lie along x and y
+        c["heading"].disabled = fixed is not None
+        c["heading"].tooltip = fixed or "turn the eye to the right, degrees"
         c["pitch"] = _slider("pitch (°)", v.pitch, -30.0, 30.0, 0.1, ".1f")
         c["reflections"] = w.ToggleButtons(options=[0, 1, 2], value=v.reflections, description="reflections",
                                            style={"description_width": "9em", "button_width": "3em"})
