@@ -90,8 +90,9 @@ def _sea_block(m, r0, W, ys, xs, s32, y32, flat, dirs, pnts, nrm, l, mm, c, lx, 
                                part[j], uu, U, V, part_codes, island_start, island_size)
         else:
             code = sky_code(np.float64(np.float32(rx[j])), np.float64(np.float32(ry[j])),
-                            np.float64(np.float32(rz[j])), bounces[j] > 0, seed, n, uu, Wv, sky_start, sky_size,
-                            track_start, track_size, halo_start, halo_size, dither, sin_d, sin_halo, e_max)
+                            np.float64(np.float32(rz[j])), bounces[j] > 0, seed, n, uu, Wv[0], Wv[1], Wv[2],
+                            sky_start, sky_size, track_start, track_size, halo_start, halo_size, dither, sin_d,
+                            sin_halo, e_max)
         codes[ys[j] - r0, xs[j]] = code
 
 
@@ -164,8 +165,9 @@ def _code_strip(best_u, best_surf, s_all, zeta, r0, r1, use_still, still, l, mm,
                 uu = _dither_at(seed, n, 0)
                 if sc == SKY:
                     code = sky_code(np.float64(np.float32(s * inv)), np.float64(np.float32(inv)),
-                                    np.float64(np.float32(z * inv)), False, seed, n, uu, Wv, sky_start, sky_size,
-                                    track_start, track_size, halo_start, halo_size, dither, sin_d, sin_halo, e_max)
+                                    np.float64(np.float32(z * inv)), False, seed, n, uu, Wv[0], Wv[1], Wv[2],
+                                    sky_start, sky_size, track_start, track_size, halo_start, halo_size, dither,
+                                    sin_d, sin_halo, e_max)
                 else:
                     yv = 1.0 / best_u[col, k]
                     i = sc - 1

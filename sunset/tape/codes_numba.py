@@ -71,8 +71,8 @@ def island_code(n0, n1, n2, p, uu, U, V, part_codes, island_start, island_size):
 
 
 @_jit
-def sky_code(x, y, z, bounced, seed, n, uu, W, sky_start, sky_size, track_start, track_size, halo_start, halo_size,
-             dither, sin_d, sin_halo, e_max):
+def sky_code(x, y, z, bounced, seed, n, uu, w0, w1, w2, sky_start, sky_size, track_start, track_size, halo_start,
+             halo_size, dither, sin_d, sin_halo, e_max):
     """The code of pixel ``n`` whose (float64) final ray (x, y, z) reaches the sky: by its z, and, for a reflected
     ray (``bounced``), the sun's track or its halo when |W·R| is small (the rules of
     :func:`sunset.tape.codes.encode_pixels`)."""
@@ -81,7 +81,7 @@ def sky_code(x, y, z, bounced, seed, n, uu, W, sky_start, sky_size, track_start,
     code = sky_start + min(max(k, 0), sky_size - 1)
     if bounced:
         vv = _dither_at(seed, n, 1)
-        dot = x * W[0] + y * W[1] + z * W[2]
+        dot = x * w0 + y * w1 + z * w2
         wr = abs(dot) + (vv - 0.5) * dither
         if wr < sin_d:
             k = np.int64(np.floor(math.asin(zc) * (track_size / e_max) + uu))
@@ -124,8 +124,8 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, seed, first, cycle, 
                 codes[y, x] = code
             elif s == -1:
                 codes[y, x] = sky_code(np.float64(ray[y, x, 0]), np.float64(ray[y, x, 1]), np.float64(ray[y, x, 2]),
-                                       bounces[y, x] > 0, seed, n, uu, W, sky_start, sky_size, track_start,
-                                       track_size, halo_start, halo_size, dither, sin_d, sin_halo, e_max)
+                                       bounces[y, x] > 0, seed, n, uu, W[0], W[1], W[2], sky_start, sky_size,
+                                       track_start, track_size, halo_start, halo_size, dither, sin_d, sin_halo, e_max)
             else:
                 others += 1
     return False, 0, others
