@@ -7,9 +7,9 @@ not reach it: a direct ray that ends in the sky is coded by its direction
 alone, one that ends on an island by the island's part and normal there, and
 the dither is the same for every frame (:func:`sunset.tape.codes.dither`).
 So :func:`cycle_pass` codes, once per cycle, the frame of the islands and the
-sky alone (:func:`sunset.pipeline.frame.islands_alone`, then
-:func:`sunset.pipeline.frame.encode`): every pixel the sea does not take has
-that code in every frame. A frame of the cycle
+sky alone (their depth buffer, with no sea merged in, through the strip
+kernel of every frame, :func:`sunset.pipeline.frame.code_rows`): every pixel
+the sea does not take has that code in every frame. A frame of the cycle
 (:func:`sunset.pipeline.frame.code_frame` with the :class:`CyclePass`) then
 traces and codes only its sea pixels, strip by strip of rows; the codes are
 byte-identical to the whole frame's (tests). Scenes with clouds or posts in
@@ -27,9 +27,9 @@ import numpy as np
 from ..errors import require_int_range
 from ..kernels import keep_freed_memory, row_strips, run_strips, use_threads
 from ..model.scene import Scene
-from ..vector.direct import IslandPass
+from ..vector.direct import DepthBuffer, IslandPass, check_island_pass, ray_directions, row_heights
 from ..vector.budget import check_work
-from .frame import CyclePass, check_cycle_pass, code_frame, encode, island_pass, islands_alone, still_key  # noqa: F401
+from .frame import CyclePass, check_cycle_pass, code_frame, code_rows, island_pass, still_key  # noqa: F401
 from .workers import frame_workers, start_method
 
 __all__ = ["CyclePass", "cycle_pass", "still_key", "check_cycle_pass", "code_frames"]
@@ -43,13 +43,21 @@ def cycle_pass(scene, seed: int = 0, islands: IslandPass | None = None, *, work=
     require_int_range("seed", seed, 0, 2**32 - 1)
     if islands is None:
         islands = island_pass(scene, work=work)
-    frame = islands_alone(scene, islands).allocate_final(False)
-    run_strips(frame.finish_rows, row_strips(*frame.shape))
-    codes = encode(scene, frame, seed=seed)
-    for a in (frame.direction, codes):
+    check_island_pass(scene, islands)
+    cam = scene.camera
+    W, H = cam.width, cam.height
+    s, zeta = cam.s_centres(), row_heights(cam)
+    depth = DepthBuffer(islands.u, islands.code, s, zeta)     # no sea merged in
+    codes = code_rows(scene, 0.0, 0, seed, depth)
+    direction = np.empty((H, W, 3), np.float32)
+
+    def rays(r0: int, r1: int) -> None:
+        ray_directions(s, zeta[H - r1:H - r0], direction[r0:r1])
+
+    run_strips(rays, row_strips(H, W))
+    for a in (direction, codes):
         a.flags.writeable = False
-    return CyclePass(key=still_key(scene, seed), islands=islands, direction=frame.direction, codes=codes,
-                     seed=int(seed))
+    return CyclePass(key=still_key(scene, seed), islands=islands, direction=direction, codes=codes, seed=int(seed))
 
 
 #: What a worker process of :func:`code_frames` keeps for all its frames: the islands' pass, and the

@@ -49,8 +49,8 @@ from ..vector.windsea_scan import wind_columns, wind_normals, wind_sea_geometry
 from ..vector.reflect import trace_sea_rays
 from ..vector.budget import Work, check_work as check_budget
 
-__all__ = ["sea_stage", "island_pass", "depth_buffer", "trace_direct", "islands_alone", "trace_reflections",
-           "render", "encode", "expose", "CyclePass", "still_key", "check_cycle_pass", "code_frame", "code_strip",
+__all__ = ["sea_stage", "island_pass", "depth_buffer", "trace_direct", "trace_reflections",
+           "render", "encode", "expose", "CyclePass", "still_key", "check_cycle_pass", "code_frame", "code_rows", "code_strip",
            "CODE_STRIP_PIXELS", "SEA_STRIP_PIXELS"]
 
 _F32 = np.float32
@@ -254,14 +254,6 @@ def trace_direct(scene, t: float = 0.0, *, refine_islands: bool = True, info: di
     if info is not None:
         info.update(counts)
     return frame
-
-
-def islands_alone(scene, islands: IslandPass) -> Frame:
-    """The direct frame of the islands and the sky alone (no sea): what every frame of a cycle shows where the sea
-    does not reach. :func:`trace_direct`'s geometry of the island pass ``islands``, with nothing merged in."""
-    check_island_pass(scene, islands)
-    cam = scene.camera
-    return _assemble(scene, 0.0, DepthBuffer(islands.u, islands.code, cam.s_centres(), row_heights(cam)))
 
 
 def trace_reflections(scene, frame: Frame, reflections: int,
@@ -506,9 +498,16 @@ def code_frame(scene: SceneLike, t: float, reflections: int = 2, seed: int = 0, 
     if scene.clouds is not None or scene.posts:
         return encode(scene, render(scene, t, reflections, islands=islands, sea_bounces=False, work=work), seed)
     work = _check_work(scene, work)
-    depth = depth_buffer(scene, t, islands=islands, work=work)
-    cam = scene.camera
-    H, W = cam.height, cam.width
+    return code_rows(scene, t, reflections, seed, depth_buffer(scene, t, islands=islands, work=work), still)
+
+
+def code_rows(scene, t: float, reflections: int, seed: int, depth: DepthBuffer,
+              still: CyclePass | None = None) -> np.ndarray:
+    """The codes (H, W) uint8 of a frame from its depth buffer: :func:`code_strip` by strips of rows on all threads.
+
+    Checked already: the scene, ``t``, ``reflections``, ``seed`` and ``still``.
+    """
+    W, H = depth.u.shape
     cmap = code_map(scene)
     codes = np.empty((H, W), np.uint8)
     # the fused pass knows the trains only: a wind sea's strips go through its stages one after the other

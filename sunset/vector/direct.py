@@ -32,7 +32,7 @@ from .island_samples import islands_scan, probe_refinement
 
 __all__ = ["IslandPass", "island_key", "check_island_pass", "DepthBuffer", "row_heights", "island_probes",
            "island_columns", "direct_rows", "sea_strip", "sea_points", "sea_geometry", "assemble_geometry", "put_unit_normals",
-           "put_sea_normals", "put_island_normals"]
+           "put_sea_normals", "put_island_normals", "ray_directions"]
 
 _F32 = np.float32
 
@@ -287,14 +287,26 @@ def _assemble_geometry(best_u, best_surf, s_all, zeta, out):
         y = np.where(hit, 1.0 / u, np.nan)                 # (H, W)
     s = s_all[None, :]
     z = zeta[::-1][:, None]
-    length = np.sqrt(1.0 + s * s + z * z)                  # |(s, 1, ζ)|
-    inv = 1.0 / length
-    direction[..., 0] = s * inv
-    direction[..., 1] = inv
-    direction[..., 2] = z * inv
+    length = ray_directions(s_all, zeta, direction)
     point[..., 0] = s * y
     point[..., 1] = y
     point[..., 2] = z * y
     distance[...] = np.where(hit, y * length, np.inf)
     normal.fill(np.nan)
     return surf, y
+
+
+def ray_directions(s_all, zeta, direction) -> np.ndarray:
+    """The unit direct rays (s, 1, ζ)/|(s, 1, ζ)| into ``direction`` (K, W, 3) float32, rows from the top, for scan
+    lines at ``s_all`` (W,) and rows at heights ``zeta`` (K,) from the bottom; returns the lengths |(s, 1, ζ)| (K, W).
+
+    They depend on the camera alone: a wave cycle's frames share them (:func:`sea_strip`).
+    """
+    s = s_all[None, :]
+    z = zeta[::-1][:, None]
+    length = np.sqrt(1.0 + s * s + z * z)                  # |(s, 1, ζ)|
+    inv = 1.0 / length
+    direction[..., 0] = s * inv
+    direction[..., 1] = inv
+    direction[..., 2] = z * inv
+    return length
