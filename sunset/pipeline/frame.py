@@ -51,7 +51,7 @@ from ..vector.budget import Work, check_work as check_budget
 
 __all__ = ["sea_stage", "island_pass", "depth_buffer", "trace_direct", "trace_reflections",
            "render", "encode", "expose", "CyclePass", "still_key", "check_cycle_pass", "code_frame", "code_rows", "code_strip",
-           "CODE_STRIP_PIXELS", "SEA_STRIP_PIXELS"]
+           "CODE_STRIP_PIXELS", "SEA_STRIP_PIXELS", "FUSED_STRIP_PIXELS"]
 
 _F32 = np.float32
 
@@ -61,6 +61,11 @@ CODE_STRIP_PIXELS = 1 << 18
 
 #: Pixels in a strip of :func:`code_frame` at most: its arrays (about 80 bytes a pixel) stay in a core's cache.
 SEA_STRIP_PIXELS = 1 << 15
+
+#: Pixels in a strip of :func:`code_frame` at most when the strip is one compiled fused pass, which keeps no
+#: array of the strip but its codes: taller strips read each scan line of the depth buffer in longer runs
+#: (at 1024², 64 rows instead of 32: about 4 % less CPU time in the fused pass, measured in one process).
+FUSED_STRIP_PIXELS = 1 << 16
 
 
 # --------------------------------------------------------------------------- the depth buffer
@@ -512,9 +517,11 @@ def code_rows(scene, t: float, reflections: int, seed: int, depth: DepthBuffer,
     codes = np.empty((H, W), np.uint8)
     # the fused pass knows the trains only: a wind sea's strips go through its stages one after the other
     # (each stage's own twin)
-    strip = code_strip if sea_stage(scene.sea).fused else code_strip.reference
+    fused = sea_stage(scene.sea).fused
+    strip = code_strip if fused else code_strip.reference
+    most = FUSED_STRIP_PIXELS if fused and enabled() else SEA_STRIP_PIXELS
     run_strips(lambda r0, r1: strip(scene, t, reflections, seed, depth, r0, r1, cmap, codes[r0:r1], still),
-               strips(H, max(1, SEA_STRIP_PIXELS // W)))
+               strips(H, max(1, most // W)))
     return codes
 
 
