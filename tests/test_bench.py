@@ -261,9 +261,24 @@ def test_the_ripples_rows_and_the_convergence_measure(monkeypatch):
             assert len(res[f"self_reflected{kind}{norm}"]) == 1 and res[f"self_refracted{kind}{norm}"][0] > 0
     for key in ("self_reflected", "self_refracted", "self_reflected_refined", "self_refracted_refined"):
         assert len(res[key]) == 1 and 0 < res[key][0] < 2
+    # the everywhere-refined differences split between the columns by the silhouettes and the rest, in squares
+    for name in ("reflected", "refracted"):
+        on, off = (res[f"self_{name}_everywhere_{key}_silhouettes"] for key in ("on", "off"))
+        assert len(on) == len(off) == 1
+        assert on[0] ** 2 + off[0] ** 2 == pytest.approx(res[f"self_{name}_everywhere"][0] ** 2, rel=1e-9)
     # 4096 photons a part over 8 x ~60 texels: their noise is several per cent of the texture, and the beams
     # differ from them by at least about that
     assert 0.01 < res["photon_noise"] < 1.0 and min(res["difference"]) > 0.3 * res["photon_noise"]
+
+
+def test_the_columns_by_a_posts_silhouettes_are_the_lit_ones_within_two_of_a_dark_one():
+    from sunset.bench.ripples import SILHOUETTE_REACH, silhouette_columns
+
+    lit = np.zeros((3, 12))
+    lit[1, [0, 1, 2, 3, 4, 5, 11]] = 1.0                   # lit from column 11 round to column 5
+    assert SILHOUETTE_REACH == 2
+    assert np.flatnonzero(silhouette_columns(lit)).tolist() == [0, 4, 5, 11]
+    assert not silhouette_columns(np.ones((3, 12))).any()
 
 
 def test_the_ripples_book_data_command_refuses_bad_repeats(tmp_path, capsys):

@@ -26,7 +26,7 @@ import numpy as np
 
 __all__ = ["measure_ripples", "measure_convergence", "rows", "format_rows", "CONVERGENCE_PHOTONS",
            "CONVERGENCE_CELLS", "NearPost", "near_textures", "self_orders", "NEAR_REACH", "NEAR_LEAST_COSINE",
-           "NEAR_CELLS"]
+           "NEAR_CELLS", "silhouette_columns", "SILHOUETTE_REACH"]
 
 #: Photons of the convergence check (in independent parts, each within RIPPLE_MAX_RAYS) and the beams' cells set
 #: against them, metres.
@@ -43,6 +43,8 @@ CONVERGENCE_TEXELS = 32
 NEAR_REACH = 4.0
 NEAR_LEAST_COSINE = 0.3
 NEAR_CELLS = (0.04, 0.02, 0.01, 0.005)
+#: The texture's columns by the post's silhouettes: lit columns within this many columns of an unlit one.
+SILHOUETTE_REACH = 2
 
 
 class NearPost:
@@ -109,6 +111,16 @@ def near_textures(scene, hours: float, cells, texels: int = CONVERGENCE_TEXELS, 
         books = trace_beams(near, max(1, math.ceil(near.L / cell)), max(1, math.ceil(2 * near.W / cell)))
         out.append((books.reflected, books.refracted.mean(axis=-1)))
     return out
+
+
+def silhouette_columns(texture) -> np.ndarray:
+    """Which columns (n_φ,) of a post's ``texture`` (n_z, n_φ) lie by its silhouettes: lit ones within
+    :data:`SILHOUETTE_REACH` columns (around the post) of a column with no light at all."""
+    dark = ~np.any(texture > 0, axis=0)
+    near = np.zeros_like(dark)
+    for k in range(1, SILHOUETTE_REACH + 1):
+        near |= np.roll(dark, k) | np.roll(dark, -k)
+    return near & ~dark
 
 
 def self_orders(textures, which: int) -> dict:
@@ -181,7 +193,8 @@ def measure_convergence(width: int = 0, height: int = 0, repeats: int = 1) -> di
     """The beams at :data:`CONVERGENCE_CELLS` against :data:`CONVERGENCE_PHOTONS` photons (a histogram), on the
     post in the swell at the figure's hour: rms differences of the reflected texture, relative to its rms; and
     each mesh against the next finer one (``self_*``, rms; ``*_l1``: mean absolute differences), plain, with
-    the glancing beams halved (``_refined``), with every landing beam halved (``_everywhere``), and on
+    the glancing beams halved (``_refined``), with every landing beam halved (``_everywhere``; its rms split
+    between the columns by the silhouettes and the rest, ``_on_silhouettes``, ``_off_silhouettes``), and on
     :class:`NearPost` (``_near``, plain beams of :data:`NEAR_CELLS`)."""
     import math
 
@@ -232,6 +245,14 @@ def measure_convergence(width: int = 0, height: int = 0, repeats: int = 1) -> di
     for j, name in enumerate(("reflected", "refracted")):
         orders = self_orders(textures, j)
         out[f"self_{name}_everywhere"], out[f"self_{name}_everywhere_l1"] = orders["L2"], orders["L1"]
+        # the same rms differences split between the columns by the silhouettes and the rest (each relative to
+        # the finer whole texture's rms, so that the two add in squares to the whole)
+        by = silhouette_columns(textures[-1][j])
+        out[f"silhouette_columns_{name}"] = np.flatnonzero(by).tolist()
+        for key, cols in (("on", by), ("off", ~by)):
+            out[f"self_{name}_everywhere_{key}_silhouettes"] = [
+                float(np.sqrt(np.sum((a[j][:, cols] - b[j][:, cols]) ** 2) / b[j].size / np.mean(b[j] ** 2)))
+                for a, b in zip(textures[:-1], textures[1:])]
     # away from the silhouettes and the far water (NearPost), plain beams
     near = near_textures(swell, RIPPLE_HOURS, NEAR_CELLS)
     out.update(near_cells=list(NEAR_CELLS), near_reach=NEAR_REACH, near_least_cosine=NEAR_LEAST_COSINE)
