@@ -60,7 +60,7 @@ def island_code(n0, n1, n2, p, uu, U, V, part_codes, island_start, island_size):
     if rh >= 3.0:
         rh = rh - 4.0
     j = -1
-    for i in range(part_codes.shape[0]):
+    for i in range(len(part_codes)):
         if part_codes[i] == p:
             j = i
     if j < 0:
@@ -134,14 +134,21 @@ def _encode_pixels(codes, surf, part, normal, ray, bounces, seed, first, cycle, 
 _NO_STILL = np.zeros((1, 1), np.uint8), np.zeros((1, 1), np.int8)
 
 
+def _floats(v) -> tuple:
+    return tuple(float(x) for x in np.asarray(v, float))
+
+
 @functools.lru_cache(maxsize=64)
 def code_constants(sun, cmap) -> tuple:
-    """The arguments of :func:`_encode_pixels` that come from the sun and the code map (the same every strip)."""
+    """The arguments of :func:`_encode_pixels` that come from the sun and the code map (the same every strip).
+
+    The sun's axes and the parts' code ranges are tuples, not arrays: a compiled function takes and drops a
+    reference to each array it is given, an atomic operation, on every pixel that :func:`island_code` codes.
+    """
     part_ids = (PART_HILL, PART_CLIFF, PART_BEACH)
     ranges = [cmap.for_part(p) for p in part_ids]
-    return (np.asarray(sun.U, float), np.asarray(sun.V, float), np.asarray(sun.W, float),
-            np.asarray(part_ids, np.int64), np.array([r.start for r in ranges], np.int64),
-            np.array([r.size for r in ranges], np.int64), cmap.sky.start, cmap.sky.size, cmap.track.start,
+    return (_floats(sun.U), _floats(sun.V), _floats(sun.W), tuple(int(p) for p in part_ids),
+            tuple(int(r.start) for r in ranges), tuple(int(r.size) for r in ranges), cmap.sky.start, cmap.sky.size, cmap.track.start,
             cmap.track.size, cmap.halo.start, cmap.halo.size, float(TRACK_DITHER * math.sin(sun.delta)),
             float(math.sin(sun.delta)), float(math.sin(HALO_FACTOR * sun.delta)), float(track_elevation_max(sun)))
 
