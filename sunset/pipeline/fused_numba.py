@@ -31,6 +31,9 @@ import functools
 import math
 
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
 
 from ..constants import PART_BEACH, PART_CLIFF, PART_HILL, SEA, SKY
 from ..errors import SunsetError
@@ -49,6 +52,30 @@ BLOCK = 512
 TILE_COLUMNS = 64
 
 _F32 = np.float32
+#: Scan lines ahead of the one being read whose pieces of the depth buffer are fetched into the cache.
+PREFETCH_AHEAD = 4
+
+
+@intrinsic
+def _prefetch(typingctx, address):
+    """Ask the processor to bring the cache line at ``address`` (an integer) into its caches (``llvm.prefetch``)."""
+    sig = types.void(types.intp)
+
+    def codegen(context, builder, signature, args):
+        i8p = ir.IntType(8).as_pointer()
+        i32 = ir.IntType(32)
+        fn = builder.module.declare_intrinsic("llvm.prefetch", [i8p], ir.FunctionType(ir.VoidType(),
+                                                                                        [i8p, i32, i32, i32]))
+        builder.call(fn, [builder.inttoptr(args[0], i8p), i32(0), i32(3), i32(1)])
+        return context.get_dummy_value()
+    return sig, codegen
+
+
+@_jit
+def _prefetch_rows(base, start, stop):
+    """Prefetch the bytes ``start:stop`` after the address ``base``, line by line (64 bytes)."""
+    for off in range(start - start % 64, stop, 64):
+        _prefetch(base + off)
 
 
 @_jit
@@ -126,8 +153,16 @@ def _code_strip(best_u, best_surf, s_all, zeta, r0, r1, use_still, still, l, mm,
     inc = np.zeros((1, 1, 2), np.float32)
     rays = np.zeros((1, 1, 2, 3), np.float32)
     m = 0
+    # the strip's rows are the scan lines' pixels k_lo..k_hi; each scan line's piece of the depth buffer is
+    # a short run (the buffer is stored by scan lines), fetched a few scan lines ahead
+    k_lo, k_hi = H - r1, H - r0
+    u_base, s_base = best_u.ctypes.data, best_surf.ctypes.data
     for c0 in range(0, W, tile_columns):
         for col in range(c0, min(W, c0 + tile_columns)):
+            ahead = col + PREFETCH_AHEAD
+            if ahead < W:
+                _prefetch_rows(u_base + ahead * H * 8, k_lo * 8, k_hi * 8)
+                _prefetch_rows(s_base + ahead * H, k_lo, k_hi)
             s = s_all[col]
             for row in range(r0, r1):
                 k = H - 1 - row
